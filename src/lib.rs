@@ -1,0 +1,1 @@
+//! lplace: possibilistic place recognition.
