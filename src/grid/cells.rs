@@ -1,0 +1,216 @@
+//! The grid itself: geometry (cell ↔ metric coordinates), the planes that
+//! hold each cell's possibility and heading set, total ignorance, and the
+//! bookkeeping shared by the update, prediction and estimate modules.
+//!
+//! Planes are flat `Vec<f32>` in row-major order (`index = row · nx + col`,
+//! row 0 at `y_min`), so every pass is a linear sweep; scratch buffers are
+//! allocated once here so that stepping allocates nothing.
+//!
+//! # Complexity
+//!
+//! Construction and [`FuzzyGrid::reset`] are O(cells); accessors are O(1).
+//!
+//! # Example
+//!
+//! ```
+//! use lplace::grid::{FuzzyGrid, GridConfig};
+//! let g = FuzzyGrid::new(GridConfig::default(), [0.0, 0.0, 3.0, 2.0]).unwrap();
+//! assert_eq!((g.nx(), g.ny()), (30, 20));
+//! assert!(g.possibilities().iter().all(|&h| h == 1.0)); // total ignorance
+//! ```
+
+use super::predict::Pending;
+use super::{GridConfig, GridError, Trapezoid};
+use std::f32::consts::PI;
+
+/// Largest number of cells a grid may have (about 1.5 GB of planes).
+pub const MAX_CELLS: usize = 64 << 20;
+
+/// The Fuzzy Position Grid of paper 000.
+#[derive(Debug, Clone)]
+pub struct FuzzyGrid {
+    pub(crate) cfg: GridConfig,
+    pub(crate) nx: usize,
+    pub(crate) ny: usize,
+    pub(crate) x0: f32,
+    pub(crate) y0: f32,
+    pub(crate) cell: f32,
+    /// Possibility plane `G(x, y)`.
+    pub(crate) h: Vec<f32>,
+    /// Heading set of each cell, stored with height 1 (its height is `h`).
+    pub(crate) theta: Vec<f32>,
+    pub(crate) delta: Vec<f32>,
+    pub(crate) alpha: Vec<f32>,
+    pub(crate) bias: Vec<f32>,
+    /// Scratch plane for dilation and shifting (same size as `h`).
+    pub(crate) scratch: Vec<f32>,
+    /// Scratch for the 1-D passes: one line of values and a deque of indices.
+    pub(crate) line: Vec<f32>,
+    pub(crate) line_out: Vec<f32>,
+    pub(crate) deque: Vec<u32>,
+    pub(crate) pending: Pending,
+    /// Height of the plane before the last normalisation.
+    pub(crate) last_height: f32,
+}
+
+impl FuzzyGrid {
+    /// A grid covering `bounds = [x_min, y_min, x_max, y_max]` (metres) in
+    /// total ignorance. The extent is rounded up to whole cells.
+    pub fn new(cfg: GridConfig, bounds: [f32; 4]) -> Result<Self, GridError> {
+        cfg.validate()?;
+        let [x_min, y_min, x_max, y_max] = bounds;
+        if bounds.iter().any(|v| !v.is_finite()) || x_max <= x_min || y_max <= y_min {
+            return Err(GridError::BadConfig { field: "bounds", reason: "need finite x_min < x_max, y_min < y_max" });
+        }
+        let nxf = ((x_max - x_min) / cfg.cell_size - 1e-4).ceil().max(1.0);
+        let nyf = ((y_max - y_min) / cfg.cell_size - 1e-4).ceil().max(1.0);
+        if nxf * nyf > MAX_CELLS as f32 {
+            return Err(GridError::TooLarge { nx: nxf as usize, ny: nyf as usize, limit: MAX_CELLS });
+        }
+        let (nx, ny) = (nxf as usize, nyf as usize);
+        let n = nx * ny;
+        let longest = nx.max(ny) + nx.min(ny); // a diagonal is never longer
+        let mut g = FuzzyGrid {
+            cell: cfg.cell_size,
+            cfg,
+            nx,
+            ny,
+            x0: x_min,
+            y0: y_min,
+            h: vec![1.0; n],
+            theta: vec![0.0; n],
+            delta: vec![2.0 * PI; n],
+            alpha: vec![0.0; n],
+            bias: vec![1.0; n],
+            scratch: vec![0.0; n],
+            line: vec![0.0; longest],
+            line_out: vec![0.0; longest],
+            deque: vec![0; longest],
+            pending: Pending::default(),
+            last_height: 1.0,
+        };
+        g.reset();
+        Ok(g)
+    }
+
+    /// Back to total ignorance: every cell possibility 1, every heading possible.
+    pub fn reset(&mut self) {
+        self.h.fill(1.0);
+        self.theta.fill(0.0);
+        self.delta.fill(2.0 * PI);
+        self.alpha.fill(0.0);
+        self.bias.fill(1.0);
+        self.pending = Pending::default();
+        self.last_height = 1.0;
+    }
+
+    /// The configuration in use.
+    pub fn config(&self) -> &GridConfig {
+        &self.cfg
+    }
+    /// Number of columns (x direction).
+    pub fn nx(&self) -> usize {
+        self.nx
+    }
+    /// Number of rows (y direction).
+    pub fn ny(&self) -> usize {
+        self.ny
+    }
+    /// Cell side in metres.
+    pub fn cell_size(&self) -> f32 {
+        self.cell
+    }
+    /// Lower-left corner `(x_min, y_min)` of the grid.
+    pub fn origin(&self) -> (f32, f32) {
+        (self.x0, self.y0)
+    }
+    /// The possibility plane, row-major (`row · nx + col`, row 0 at `y_min`).
+    pub fn possibilities(&self) -> &[f32] {
+        &self.h
+    }
+    /// Mutable possibility plane, for callers that build priors. Values written
+    /// outside [0, 1] (or NaN) are clamped (NaN → 0) by the next operation.
+    pub fn possibilities_mut(&mut self) -> &mut [f32] {
+        &mut self.h
+    }
+    /// Height of the plane measured just before the last normalisation: 1 −
+    /// this is the inconsistency of the last observation with the belief.
+    pub fn last_height(&self) -> f32 {
+        self.last_height
+    }
+    /// Centre of cell `(col, row)` in metres.
+    #[inline]
+    pub fn cell_center(&self, col: usize, row: usize) -> (f32, f32) {
+        (self.x0 + (col as f32 + 0.5) * self.cell, self.y0 + (row as f32 + 0.5) * self.cell)
+    }
+    /// The cell containing a metric point, if inside the grid.
+    pub fn cell_of(&self, x: f32, y: f32) -> Option<(usize, usize)> {
+        let c = ((x - self.x0) / self.cell).floor();
+        let r = ((y - self.y0) / self.cell).floor();
+        if c >= 0.0 && r >= 0.0 && (c as usize) < self.nx && (r as usize) < self.ny {
+            Some((c as usize, r as usize))
+        } else {
+            None
+        }
+    }
+    /// Possibility of cell `(col, row)` (0 outside the grid).
+    pub fn possibility(&self, col: usize, row: usize) -> f32 {
+        if col < self.nx && row < self.ny {
+            self.h[row * self.nx + col]
+        } else {
+            0.0
+        }
+    }
+    /// Heading set of cell `(col, row)`, with the cell's possibility as height.
+    pub fn heading_set(&self, col: usize, row: usize) -> Option<Trapezoid> {
+        if col < self.nx && row < self.ny {
+            let i = row * self.nx + col;
+            Some(Trapezoid::new(self.theta[i], self.delta[i], self.alpha[i], self.h[i], self.bias[i]))
+        } else {
+            None
+        }
+    }
+    /// Replaces the heading set of a cell (height ignored: it is the plane).
+    pub fn set_heading_set(&mut self, col: usize, row: usize, t: Trapezoid) {
+        if col < self.nx && row < self.ny {
+            let i = row * self.nx + col;
+            self.theta[i] = t.center;
+            self.delta[i] = t.core;
+            self.alpha[i] = t.slope;
+            self.bias[i] = t.bias;
+        }
+    }
+
+    /// After an update: flush tiny values, measure the height, and rescale to
+    /// height 1 when configured. A plane driven to 0 everywhere (possible only
+    /// with zero biases) carries no information and restarts from ignorance.
+    pub(crate) fn finish_update(&mut self) -> f32 {
+        let flush = self.cfg.flush_below;
+        let mut max = 0.0f32;
+        for v in self.h.iter_mut() {
+            // `!(x >= flush)` also catches NaN written through possibilities_mut.
+            if !(*v >= flush) {
+                *v = 0.0;
+            }
+            if *v > 1.0 {
+                *v = 1.0;
+            }
+            max = max.max(*v);
+        }
+        self.last_height = max;
+        if max <= 0.0 {
+            let pending = self.pending;
+            self.reset();
+            self.pending = pending;
+            self.last_height = 0.0;
+            return 0.0;
+        }
+        if self.cfg.normalize && max < 1.0 {
+            let k = 1.0 / max;
+            for v in self.h.iter_mut() {
+                *v = (*v * k).min(1.0);
+            }
+        }
+        max
+    }
+}

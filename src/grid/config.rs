@@ -1,0 +1,221 @@
+//! Parameters of the Fuzzy Position Grid, loadable from RON.
+//!
+//! Every number the grid uses lives here so that it can be changed in a file
+//! (`config/grid-*.ron`) without touching code. [`GridConfig::default`]
+//! documents the defaults, which were chosen for a camera measuring range and
+//! bearing to landmarks a few metres away (MRCLAM dataset 7).
+
+use super::{GridError, Trapezoid};
+use serde::{Deserialize, Serialize};
+
+/// How an observation's possibility distribution is combined with the grid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Combine {
+    /// `G · S` — paper 000's choice: independent observations reinforce.
+    #[default]
+    Product,
+    /// `min(G, S)` — idempotent; use when observations may repeat each other.
+    Min,
+}
+
+/// Shape of the dilation's structuring element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum ElementShape {
+    /// Regular octagon (row, column and both diagonal passes): the closest
+    /// decomposable shape to a disc, at most 8 % wider than it.
+    #[default]
+    Octagon,
+    /// Square (row and column passes only): half the cost, 41 % wider along
+    /// the diagonals.
+    Square,
+}
+
+/// A sensor model: the trapezoid `⟨r, Δ, α, 1, b⟩` put around a reading `r`.
+///
+/// Widths grow with the reading (`core = core_abs + core_rel · |r|`, same for
+/// the flank) because camera range errors grow with distance.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SensorModel {
+    /// Constant part of the core width Δ (metres or radians).
+    pub core_abs: f32,
+    /// Part of the core width proportional to the reading.
+    pub core_rel: f32,
+    /// Constant part of the flank width α.
+    pub slope_abs: f32,
+    /// Part of the flank width proportional to the reading.
+    pub slope_rel: f32,
+    /// Bias b: possibility that the reading is an outlier.
+    pub bias: f32,
+}
+
+impl SensorModel {
+    /// The fuzzy set around a reading. `reading` is assumed finite.
+    pub fn around(&self, reading: f32) -> Trapezoid {
+        let m = reading.abs();
+        Trapezoid::new(
+            reading,
+            self.core_abs + self.core_rel * m,
+            self.slope_abs + self.slope_rel * m,
+            1.0,
+            self.bias,
+        )
+    }
+
+    fn validate(&self, which: &'static str) -> Result<(), GridError> {
+        let vals = [self.core_abs, self.core_rel, self.slope_abs, self.slope_rel];
+        if vals.iter().any(|v| !v.is_finite() || *v < 0.0) {
+            return Err(GridError::BadConfig { field: which, reason: "widths must be finite and ≥ 0" });
+        }
+        if !(0.0..=1.0).contains(&self.bias) {
+            return Err(GridError::BadConfig { field: which, reason: "bias must be in [0, 1]" });
+        }
+        Ok(())
+    }
+}
+
+/// All parameters of the grid, its update, prediction and estimate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct GridConfig {
+    /// Side of a square cell in metres. Default 0.1 (paper 000 uses 10 cm).
+    pub cell_size: f32,
+    /// Margin in metres added around the landmarks' bounding box when the
+    /// extent of the grid is derived from a landmark table. Default 1.5.
+    pub margin: f32,
+    /// Explicit extent `[x_min, y_min, x_max, y_max]` in metres; overrides the
+    /// landmark box when set. Default none.
+    pub bounds: Option<[f32; 4]>,
+    /// Range sensor model. Default core 0.1 m + 5 % of r, flank 0.2 m + 5 %,
+    /// bias 0.1.
+    pub range: SensorModel,
+    /// Bearing sensor model. Default core 0.06 rad, flank 0.1 rad, bias 0.1.
+    pub bearing: SensorModel,
+    /// Plane combination. Default product.
+    pub combine: Combine,
+    /// Rescale the plane so its maximum is 1 after each update (possibilistic
+    /// normalisation). Without it a long run under product drives every cell
+    /// towards 0 and the top region loses meaning. Default true.
+    pub normalize: bool,
+    /// Structuring element shape. Default octagon.
+    pub element: ElementShape,
+    /// Radius (metres) at which the element's possibility is still 1, per
+    /// metre travelled: odometry can be trusted to this fraction. Default 0.1.
+    pub core_per_metre: f32,
+    /// Extra radius (metres, flank of the element) per metre travelled.
+    /// Default 0.2.
+    pub flank_per_metre: f32,
+    /// Flank radius (metres) added per second regardless of odometry, for
+    /// slippage and unmodelled pushes. Default 0.02.
+    pub flank_per_second: f32,
+    /// Flank radius (metres) per metre travelled that is added when the
+    /// heading is unreliable and the odometry cannot be given a direction:
+    /// the motion then blurs isotropically by this much. Default 1.0.
+    pub undirected_per_metre: f32,
+    /// Widening of every cell's heading core Δ per radian turned. Default 0.1.
+    pub delta_per_radian: f32,
+    /// Widening of Δ per second. Default 0.01 rad.
+    pub delta_per_second: f32,
+    /// Heading reliability (mean resultant length of the top region's
+    /// headings, in [0, 1]) above which odometry shifts the grid along the
+    /// estimated heading. Default 0.8.
+    pub directed_min_reliability: f32,
+    /// Values below this are flushed to 0 after an update, which keeps the
+    /// arithmetic out of subnormal floats. Default 1e-9.
+    pub flush_below: f32,
+    /// Fraction of the maximum that defines the region whose centre of
+    /// gravity is the position estimate. Default 0.5.
+    pub cog_cut: f32,
+    /// Fraction of the maximum that defines the *top region* whose area
+    /// drives the reliability. Default 0.9.
+    pub top_cut: f32,
+    /// Reference area (m²) in the reliability `h_max · A_ref / (A_ref + A_top)`.
+    /// Default 0.25.
+    pub reliability_area: f32,
+    /// Reliability from which the estimate counts as a *fix*. Default 0.5.
+    pub fix_reliability: f32,
+}
+
+impl Default for GridConfig {
+    fn default() -> Self {
+        GridConfig {
+            cell_size: 0.1,
+            margin: 1.5,
+            bounds: None,
+            range: SensorModel { core_abs: 0.1, core_rel: 0.05, slope_abs: 0.2, slope_rel: 0.05, bias: 0.1 },
+            bearing: SensorModel { core_abs: 0.06, core_rel: 0.0, slope_abs: 0.1, slope_rel: 0.0, bias: 0.1 },
+            combine: Combine::Product,
+            normalize: true,
+            element: ElementShape::Octagon,
+            core_per_metre: 0.1,
+            flank_per_metre: 0.2,
+            flank_per_second: 0.02,
+            undirected_per_metre: 1.0,
+            delta_per_radian: 0.1,
+            delta_per_second: 0.01,
+            directed_min_reliability: 0.8,
+            flush_below: 1e-9,
+            cog_cut: 0.5,
+            top_cut: 0.9,
+            reliability_area: 0.25,
+            fix_reliability: 0.5,
+        }
+    }
+}
+
+impl GridConfig {
+    /// Parses a RON document (missing fields take their defaults) and checks it.
+    pub fn from_ron(text: &str) -> Result<Self, GridError> {
+        let cfg: GridConfig = ron::from_str(text).map_err(|e| GridError::Ron {
+            line: e.position.line,
+            column: e.position.col,
+            message: e.code.to_string(),
+        })?;
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    /// Checks ranges; every consumer may assume a validated configuration.
+    pub fn validate(&self) -> Result<(), GridError> {
+        let pos = |v: f32| v.is_finite() && v > 0.0;
+        let nonneg = |v: f32| v.is_finite() && v >= 0.0;
+        let unit = |v: f32| (0.0..=1.0).contains(&v);
+        if !pos(self.cell_size) {
+            return Err(GridError::BadConfig { field: "cell_size", reason: "must be finite and > 0" });
+        }
+        for (field, v) in [
+            ("margin", self.margin),
+            ("core_per_metre", self.core_per_metre),
+            ("flank_per_metre", self.flank_per_metre),
+            ("flank_per_second", self.flank_per_second),
+            ("undirected_per_metre", self.undirected_per_metre),
+            ("delta_per_radian", self.delta_per_radian),
+            ("delta_per_second", self.delta_per_second),
+            ("flush_below", self.flush_below),
+        ] {
+            if !nonneg(v) {
+                return Err(GridError::BadConfig { field, reason: "must be finite and ≥ 0" });
+            }
+        }
+        for (field, v) in [
+            ("directed_min_reliability", self.directed_min_reliability),
+            ("cog_cut", self.cog_cut),
+            ("top_cut", self.top_cut),
+            ("fix_reliability", self.fix_reliability),
+        ] {
+            if !unit(v) {
+                return Err(GridError::BadConfig { field, reason: "must be in [0, 1]" });
+            }
+        }
+        if !pos(self.reliability_area) {
+            return Err(GridError::BadConfig { field: "reliability_area", reason: "must be finite and > 0" });
+        }
+        if let Some(b) = self.bounds {
+            if b.iter().any(|v| !v.is_finite()) || b[2] <= b[0] || b[3] <= b[1] {
+                return Err(GridError::BadConfig { field: "bounds", reason: "need finite x_min < x_max, y_min < y_max" });
+            }
+        }
+        self.range.validate("range")?;
+        self.bearing.validate("bearing")?;
+        Ok(())
+    }
+}

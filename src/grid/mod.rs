@@ -1,0 +1,105 @@
+//! The metric layer: paper 000's Fuzzy Position Grid (FPG).
+//!
+//! A 2½-D grid over the metric frame: each cell holds the possibility `h` that
+//! the robot is there and a trapezoidal fuzzy set over its heading. Landmark
+//! observations intersect the grid ([`observe`]), motion blurs it by fuzzy
+//! dilation ([`dilate`], [`predict`]), and the estimate is a centre of gravity
+//! with a reliability ([`estimate`]). [`cap`] lets the place engine bound the
+//! cells of each place by that place's possibility, and [`run`] drives the
+//! whole cycle over a recorded stream and scores it against ground truth.
+//!
+//! This module depends only on `serde`/`ron`/`thiserror` and on
+//! [`crate::io::mrclam::MetricFrame`] (in [`run`]); it never does I/O.
+
+pub mod cap;
+pub mod cells;
+pub mod config;
+pub mod dilate;
+pub mod estimate;
+pub mod observe;
+pub mod predict;
+pub mod run;
+pub mod trapezoid;
+
+pub use cap::Region;
+pub use cells::FuzzyGrid;
+pub use config::{Combine, ElementShape, GridConfig, SensorModel};
+pub use estimate::Estimate;
+pub use observe::{Landmark, LandmarkTable};
+pub use predict::Motion;
+pub use trapezoid::{wrap_pi, Trapezoid};
+
+/// Everything that can go wrong in the grid layer. Variants carry the
+/// offending data; nothing here panics on bad input.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GridError {
+    /// A configuration value is out of range.
+    #[error("bad grid configuration: `{field}` {reason}")]
+    BadConfig {
+        /// Name of the field.
+        field: &'static str,
+        /// What is wrong with it.
+        reason: &'static str,
+    },
+    /// The RON text of a configuration does not parse.
+    #[error("grid configuration, line {line} column {column}: {message}")]
+    Ron {
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// The parser's message.
+        message: String,
+    },
+    /// The requested extent would need too many cells.
+    #[error("grid of {nx}×{ny} cells exceeds the limit of {limit} cells")]
+    TooLarge {
+        /// Columns requested.
+        nx: usize,
+        /// Rows requested.
+        ny: usize,
+        /// The limit.
+        limit: usize,
+    },
+    /// An observation value is NaN or infinite.
+    #[error("non-finite {what} in observation of landmark {landmark}: {value}")]
+    NonFinite {
+        /// Which quantity (`"range"`, `"bearing"`, `"landmark x"` …).
+        what: &'static str,
+        /// Landmark id (0 when not applicable).
+        landmark: u32,
+        /// The rejected value.
+        value: f32,
+    },
+    /// A range reading is negative.
+    #[error("negative range {range} to landmark {landmark}")]
+    NegativeRange {
+        /// Landmark id.
+        landmark: u32,
+        /// The rejected value.
+        range: f32,
+    },
+    /// The observed landmark is not in the table.
+    #[error("unknown landmark {0}")]
+    UnknownLandmark(u32),
+    /// A motion increment is NaN or infinite.
+    #[error("non-finite motion increment ({forward}, {lateral}, {turn}, dt {dt})")]
+    BadMotion {
+        /// Forward displacement.
+        forward: f32,
+        /// Lateral displacement.
+        lateral: f32,
+        /// Rotation.
+        turn: f32,
+        /// Elapsed time.
+        dt: f32,
+    },
+    /// A place-cap region or value is malformed.
+    #[error("bad cap region #{index}: {reason}")]
+    BadRegion {
+        /// Position of the region in the list.
+        index: usize,
+        /// What is wrong with it.
+        reason: &'static str,
+    },
+}

@@ -1,0 +1,196 @@
+//! Prediction: blur the grid for the motion since the last update (paper 000
+//! eq. (2)), optionally shaped by odometry.
+//!
+//! [`FuzzyGrid::predict`] only *accumulates* motion (robot-frame odometry
+//! increments composed into one displacement, distance travelled, angle
+//! turned, time elapsed); the work happens once, in
+//! [`FuzzyGrid::apply_pending`], which every update calls first. Composing
+//! first is exact for the blur — the sup-min sum of two trapezoid elements is
+//! the trapezoid element with summed radii — and it keeps sub-cell motions
+//! from being lost: a radius below one cell is carried over, not dropped.
+//!
+//! Applying the pending motion:
+//! 1. If the heading estimate is reliable (`R̄ ≥ directed_min_reliability`),
+//!    the plane and the heading sets are shifted by the displacement rotated
+//!    into the world frame by the estimated heading (whole cells; the
+//!    fractional remainder is carried over), and every heading centre turns by
+//!    the odometry rotation. The element is then anisotropic: its flank along
+//!    x and y grows with the x and y components of the displacement.
+//! 2. Otherwise the displacement has no usable direction: nothing is shifted
+//!    and the element grows by `undirected_per_metre` per metre in every
+//!    direction (paper 000's odometry-free blur).
+//!
+//! In both cases the element's flat core is `core_per_metre · d`, its flank
+//! gets `flank_per_metre · d + flank_per_second · t`, and every heading core Δ
+//! widens by `delta_per_radian · |turn| + delta_per_second · t`.
+//!
+//! # Complexity
+//!
+//! [`FuzzyGrid::predict`] is O(1); [`FuzzyGrid::apply_pending`] is O(cells)
+//! (heading estimate, shift, dilation — see [`crate::grid::dilate`]).
+//!
+//! # Example
+//!
+//! ```
+//! use lplace::grid::{FuzzyGrid, GridConfig, Motion};
+//! let mut g = FuzzyGrid::new(GridConfig::default(), [0.0, 0.0, 4.0, 4.0]).unwrap();
+//! g.possibilities_mut().fill(0.0);
+//! g.possibilities_mut()[20 * 40 + 20] = 1.0;
+//! g.predict(&Motion { forward: 1.0, lateral: 0.0, turn: 0.0, dt: 5.0 }).unwrap();
+//! g.apply_pending();
+//! // Heading unknown: blurred isotropically, never lowered where it was.
+//! assert_eq!(g.possibility(20, 20), 1.0);
+//! assert!(g.possibility(26, 20) > 0.0 && g.possibility(20, 14) > 0.0);
+//! ```
+
+use super::{FuzzyGrid, GridError};
+use serde::{Deserialize, Serialize};
+use std::f32::consts::PI;
+
+/// An odometry increment in the robot frame at the start of the interval.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Motion {
+    /// Displacement along the robot's heading (metres).
+    pub forward: f32,
+    /// Displacement to the robot's left (metres).
+    pub lateral: f32,
+    /// Rotation (radians, CCW).
+    pub turn: f32,
+    /// Elapsed time (seconds, ≥ 0).
+    pub dt: f32,
+}
+
+/// Motion accumulated since the last application.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct Pending {
+    /// Composed displacement in the frame of the first increment.
+    px: f32,
+    py: f32,
+    /// Composed rotation.
+    turn: f32,
+    /// Path length and total |rotation|.
+    dist: f32,
+    turned: f32,
+    dt: f32,
+    /// Sub-cell shift carried over (world metres).
+    rx: f32,
+    ry: f32,
+    /// Blur radii too small to act on yet (metres).
+    core: [f32; 2],
+    flank: [f32; 2],
+}
+
+impl FuzzyGrid {
+    /// Accumulates an odometry increment. Rejects non-finite values and
+    /// negative `dt` without changing anything.
+    pub fn predict(&mut self, m: &Motion) -> Result<(), GridError> {
+        if ![m.forward, m.lateral, m.turn, m.dt].iter().all(|v| v.is_finite()) || m.dt < 0.0 {
+            return Err(GridError::BadMotion { forward: m.forward, lateral: m.lateral, turn: m.turn, dt: m.dt });
+        }
+        let p = &mut self.pending;
+        let (s, c) = p.turn.sin_cos();
+        p.px += c * m.forward - s * m.lateral;
+        p.py += s * m.forward + c * m.lateral;
+        p.turn += m.turn;
+        p.dist += m.forward.hypot(m.lateral);
+        p.turned += m.turn.abs();
+        p.dt += m.dt;
+        Ok(())
+    }
+
+    /// Applies the accumulated motion (see the module docs). Called by every
+    /// update; call it yourself before [`FuzzyGrid::estimate`] to see the
+    /// predicted belief.
+    pub fn apply_pending(&mut self) {
+        let p = self.pending;
+        if p.dist == 0.0 && p.turned == 0.0 && p.dt == 0.0 {
+            return;
+        }
+        let cfg = &self.cfg;
+        let (core_k, flank_k, flank_t, undirected) =
+            (cfg.core_per_metre, cfg.flank_per_metre, cfg.flank_per_second, cfg.undirected_per_metre);
+        let widen = cfg.delta_per_radian * p.turned + cfg.delta_per_second * p.dt;
+        let min_rel = cfg.directed_min_reliability;
+        let est = self.estimate();
+        let mut core = p.core;
+        let mut flank = p.flank;
+        let (mut rx, mut ry) = (p.rx, p.ry);
+        let base_core = core_k * p.dist;
+        let base_flank = flank_t * p.dt;
+        if est.heading_reliability >= min_rel && est.height > 0.0 {
+            let (s, c) = est.theta.sin_cos();
+            let wx = c * p.px - s * p.py;
+            let wy = s * p.px + c * p.py;
+            rx += wx;
+            ry += wy;
+            let sx = (rx / self.cell).round();
+            let sy = (ry / self.cell).round();
+            rx -= sx * self.cell;
+            ry -= sy * self.cell;
+            self.shift(sx as isize, sy as isize);
+            self.turn_headings(p.turn);
+            core[0] += base_core;
+            core[1] += base_core;
+            flank[0] += base_flank + flank_k * wx.abs() + 0.5 * flank_k * wy.abs();
+            flank[1] += base_flank + flank_k * wy.abs() + 0.5 * flank_k * wx.abs();
+        } else {
+            self.turn_headings(p.turn);
+            core[0] += base_core;
+            core[1] += base_core;
+            let f = base_flank + (flank_k + undirected) * p.dist;
+            flank[0] += f;
+            flank[1] += f;
+        }
+        self.widen_headings(widen);
+        let reach = |k: usize| core[k] + flank[k] >= self.cell;
+        if reach(0) || reach(1) {
+            self.dilate_xy(core, flank);
+            core = [0.0; 2];
+            flank = [0.0; 2];
+        }
+        self.pending = Pending { rx, ry, core, flank, ..Pending::default() };
+    }
+
+    fn turn_headings(&mut self, by: f32) {
+        if by != 0.0 {
+            for t in self.theta.iter_mut() {
+                *t = super::wrap_pi(*t + by);
+            }
+        }
+    }
+
+    /// Moves every plane by `(sx, sy)` cells; cells entering from outside the
+    /// grid get possibility 0 and an unknown heading.
+    fn shift(&mut self, sx: isize, sy: isize) {
+        if sx == 0 && sy == 0 {
+            return;
+        }
+        let (nx, ny) = (self.nx as isize, self.ny as isize);
+        let planes: [(&mut Vec<f32>, f32); 5] = [
+            (&mut self.h, 0.0),
+            (&mut self.theta, 0.0),
+            (&mut self.delta, 2.0 * PI),
+            (&mut self.alpha, 0.0),
+            (&mut self.bias, 1.0),
+        ];
+        for (plane, fill) in planes {
+            self.scratch.fill(fill);
+            for j in 0..ny {
+                let tj = j + sy;
+                if tj < 0 || tj >= ny {
+                    continue;
+                }
+                let c_lo = 0.max(-sx);
+                let c_hi = nx.min(nx - sx);
+                if c_lo >= c_hi {
+                    continue;
+                }
+                let src = (j * nx + c_lo) as usize..(j * nx + c_hi) as usize;
+                let dst = (tj * nx + c_lo + sx) as usize;
+                let len = (c_hi - c_lo) as usize;
+                self.scratch[dst..dst + len].copy_from_slice(&plane[src]);
+            }
+            std::mem::swap(plane, &mut self.scratch);
+        }
+    }
+}

@@ -1,0 +1,310 @@
+//! Trapezoidal fuzzy sets `⟨θ, Δ, α, h, b⟩` of paper 000 (Buschka, Saffiotti,
+//! Wasik, Fig. 2) on the real line and on the circle of headings, and the
+//! paper's intersection rule for angle sets (Fig. 4).
+//!
+//! This module is pure arithmetic: no grid, no allocation. Everything else in
+//! [`crate::grid`] measures distances and angles with these sets.
+//!
+//! # Conventions
+//!
+//! * `core` (Δ) is the *full* width of the top; `slope` (α) is the horizontal
+//!   width of each flank, over which the membership falls linearly from `height`
+//!   to zero (α = 0 gives a rectangle). The paper names α "the slope"; storing
+//!   the flank width instead of a gradient keeps the rectangle case finite.
+//! * The bias `b` is a uniform floor: `μ(x) = max(b, h · ramp(x))`. It is the
+//!   possibility that the reading is an outlier ("the actual value is
+//!   somewhere else").
+//! * Angles are radians; every angular distance is taken the short way round,
+//!   so sets wrap around 2π.
+//!
+//! # Complexity
+//!
+//! Every operation is O(1).
+//!
+//! # Example
+//!
+//! ```
+//! use lplace::grid::Trapezoid;
+//! let a = Trapezoid::new(0.0, 0.2, 0.2, 1.0, 0.1);
+//! let b = Trapezoid::new(0.25, 0.2, 0.2, 1.0, 0.1);
+//! let c = a.intersect_angle(&b);
+//! assert!((c.bias - 0.01).abs() < 1e-6); // b_C = b_A · b_B
+//! assert!(c.center > 0.0 && c.center < 0.25);
+//! ```
+
+use serde::{Deserialize, Serialize};
+use std::f32::consts::PI;
+
+const TAU: f32 = 2.0 * PI;
+
+/// Wraps an angle into `(-π, π]`. Non-finite input is returned unchanged so the
+/// caller's validation sees it.
+#[inline]
+pub fn wrap_pi(a: f32) -> f32 {
+    if !a.is_finite() {
+        return a;
+    }
+    let mut r = a % TAU; // in (-2π, 2π)
+    if r > PI {
+        r -= TAU;
+    } else if r <= -PI {
+        r += TAU;
+    }
+    r
+}
+
+/// A trapezoidal fuzzy set `⟨center, core, slope, height, bias⟩`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Trapezoid {
+    /// θ: centre of the core.
+    pub center: f32,
+    /// Δ: full width of the core (the fully possible values).
+    pub core: f32,
+    /// α: width of each flank (membership falls from `height` to 0 over it).
+    pub slope: f32,
+    /// h: height of the trapezoid, in [0, 1].
+    pub height: f32,
+    /// b: uniform bias, the possibility of an outlier, in [0, 1].
+    pub bias: f32,
+}
+
+impl Trapezoid {
+    /// Builds a set, clamping widths to ≥ 0 and height/bias to [0, 1]
+    /// (non-finite widths become 0, non-finite height/bias become 0).
+    pub fn new(center: f32, core: f32, slope: f32, height: f32, bias: f32) -> Self {
+        let nn = |v: f32| if v.is_finite() { v.max(0.0) } else { 0.0 };
+        let unit = |v: f32| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 };
+        Trapezoid {
+            center: if center.is_finite() { center } else { 0.0 },
+            core: nn(core),
+            slope: nn(slope),
+            height: unit(height),
+            bias: unit(bias),
+        }
+    }
+
+    /// Total ignorance about an angle: every heading fully possible.
+    pub fn full_circle() -> Self {
+        Trapezoid { center: 0.0, core: TAU, slope: 0.0, height: 1.0, bias: 1.0 }
+    }
+
+    /// Trapezoid part only (no bias) at a distance `u ≥ 0` from the centre.
+    #[inline]
+    fn ramp(&self, u: f32) -> f32 {
+        let half = 0.5 * self.core;
+        if u <= half {
+            self.height
+        } else if self.slope > 0.0 && u < half + self.slope {
+            self.height * (1.0 - (u - half) / self.slope)
+        } else {
+            0.0 // also reached by NaN `u`
+        }
+    }
+
+    /// Membership of a value on the real line (ranges). NaN gives the bias.
+    #[inline]
+    pub fn linear(&self, x: f32) -> f32 {
+        self.ramp((x - self.center).abs()).max(self.bias)
+    }
+
+    /// Membership of an angle, measured the short way round the circle.
+    #[inline]
+    pub fn angular(&self, phi: f32) -> f32 {
+        self.ramp(wrap_pi(phi - self.center).abs()).max(self.bias)
+    }
+
+    /// True when the set covers every heading at full height.
+    pub fn is_full_circle(&self) -> bool {
+        self.core >= TAU
+    }
+
+    /// Half width of the level-`t` cut of the trapezoid part (t ≤ height);
+    /// infinite when the cut covers the whole circle.
+    #[inline]
+    fn half_width_at(&self, t: f32) -> f32 {
+        let w = 0.5 * self.core
+            + if self.height > 0.0 { self.slope * (1.0 - t / self.height) } else { 0.0 };
+        if w >= PI {
+            f32::INFINITY
+        } else {
+            w
+        }
+    }
+
+    /// Highest level at which the trapezoid parts of two angle sets overlap,
+    /// `sup_φ min(h_A·ramp_A(φ), h_B·ramp_B(φ))`, with the short-way centre
+    /// distance; 0 when their supports are disjoint.
+    pub fn overlap_level(&self, other: &Trapezoid) -> f32 {
+        let d = wrap_pi(other.center - self.center).abs();
+        Self::overlap_level_at(self, other, d)
+    }
+
+    fn overlap_level_at(a: &Trapezoid, b: &Trapezoid, d: f32) -> f32 {
+        let hmin = a.height.min(b.height);
+        if hmin <= 0.0 {
+            return 0.0;
+        }
+        let wa = a.half_width_at(0.0);
+        let wb = b.half_width_at(0.0);
+        if wa.is_infinite() || wb.is_infinite() {
+            // One support covers the circle: the level is limited by where the
+            // narrower set's cut still meets the wide one. For the circle-wide
+            // set, the cut at level t covers the circle while its own half
+            // width at t stays ≥ π.
+            let lvl = |s: &Trapezoid| -> f32 {
+                if s.half_width_at(s.height).is_infinite() || s.slope <= 0.0 {
+                    s.height
+                } else {
+                    // Solve Δ/2 + α(1 - t/h) = π for t.
+                    (s.height * (1.0 - (PI - 0.5 * s.core) / s.slope)).clamp(0.0, s.height)
+                }
+            };
+            let la = if wa.is_infinite() { lvl(a) } else { a.height };
+            let lb = if wb.is_infinite() { lvl(b) } else { b.height };
+            // The other set's own height bounds the level too.
+            return la.min(lb).min(hmin).max(0.0);
+        }
+        let reach = wa + wb - d;
+        if reach < 0.0 {
+            return 0.0;
+        }
+        let rate = a.slope / a.height + b.slope / b.height;
+        let cores = 0.5 * (a.core + b.core) - d;
+        if cores >= 0.0 {
+            hmin
+        } else if rate > 0.0 {
+            (reach / rate).min(hmin).max(0.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// Possibility that the two angle sets describe the same heading,
+    /// `sup_φ min(μ_A(φ), μ_B(φ))`, bias included.
+    pub fn consistency(&self, other: &Trapezoid) -> f32 {
+        let t = self.overlap_level(other);
+        let bb = self.bias.min(other.bias);
+        t.max(bb).max(self.bias.min(other.height)).max(self.height.min(other.bias))
+    }
+
+    /// Paper 000's intersection of two angle sets (Fig. 4).
+    ///
+    /// * If the trapezoid parts overlap, the result is the inner trapezoidal
+    ///   envelope of `min(A, B)`: height `t*` (the highest level where both cuts
+    ///   meet), core = the meeting of the cuts at `t*`, support = the meeting of
+    ///   the supports, and the *steeper* of the two resulting flanks on both
+    ///   sides so that the symmetric trapezoid stays under `min(A, B)` (which is
+    ///   concave on its support). Bias `b_C = b_A · b_B`.
+    /// * If they do not overlap, the result is the outer trapezoidal envelope of
+    ///   `max(A, B)` along the short arc joining them: its core spans both cores,
+    ///   its flanks reach both supports (the *wider* flank on both sides), height
+    ///   `max(h_A, h_B)`, and bias `1 − (1 − b_A)(1 − b_B)` — the paper only says
+    ///   the bias must grow; the probabilistic sum is our reading of that.
+    pub fn intersect_angle(&self, other: &Trapezoid) -> Trapezoid {
+        let a = self;
+        let b = other;
+        let d = wrap_pi(b.center - a.center); // B sits at d in A's frame
+        let t = Self::overlap_level_at(a, b, d.abs());
+        if t > 0.0 {
+            let bias = a.bias * b.bias;
+            let (ca_lo, ca_hi) = interval(0.0, a.half_width_at(t));
+            let (cb_lo, cb_hi) = interval(d, b.half_width_at(t));
+            let (sa_lo, sa_hi) = interval(0.0, a.half_width_at(0.0));
+            let (sb_lo, sb_hi) = interval(d, b.half_width_at(0.0));
+            let (core_lo, core_hi) = (ca_lo.max(cb_lo), ca_hi.min(cb_hi));
+            let (sup_lo, sup_hi) = (sa_lo.max(sb_lo), sa_hi.min(sb_hi));
+            if !(core_hi - core_lo).is_finite() {
+                // Both cuts cover the circle: so does the intersection.
+                return Trapezoid::new(
+                    if a.is_full_circle() { b.center } else { a.center },
+                    TAU,
+                    0.0,
+                    t,
+                    bias,
+                );
+            }
+            let core_hi = core_hi.max(core_lo); // rounding at a single point
+            let flank = (core_lo - sup_lo).min(sup_hi - core_hi).max(0.0);
+            let flank = if flank.is_finite() { flank } else { TAU };
+            let center = wrap_pi(a.center + 0.5 * (core_lo + core_hi));
+            Trapezoid::new(center, (core_hi - core_lo).min(TAU), flank.min(TAU), t, bias)
+        } else {
+            let bias = 1.0 - (1.0 - a.bias) * (1.0 - b.bias);
+            let wa = 0.5 * a.core;
+            let wb = 0.5 * b.core;
+            let core_lo = (-wa).min(d - wb);
+            let core_hi = wa.max(d + wb);
+            let sup_lo = (-wa - a.slope).min(d - wb - b.slope);
+            let sup_hi = (wa + a.slope).max(d + wb + b.slope);
+            let flank = (core_lo - sup_lo).max(sup_hi - core_hi).max(0.0);
+            let center = wrap_pi(a.center + 0.5 * (core_lo + core_hi));
+            Trapezoid::new(
+                center,
+                (core_hi - core_lo).min(TAU),
+                flank.min(TAU),
+                a.height.max(b.height),
+                bias,
+            )
+        }
+    }
+}
+
+#[inline]
+fn interval(c: f32, half: f32) -> (f32, f32) {
+    (c - half, c + half)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrap_is_in_range() {
+        for k in -20..20 {
+            let a = k as f32 * 0.77;
+            let w = wrap_pi(a);
+            assert!(w > -PI - 1e-6 && w <= PI + 1e-6, "{a} -> {w}");
+            assert!(((a - w) / TAU - ((a - w) / TAU).round()).abs() < 1e-4);
+        }
+    }
+
+    #[test]
+    fn membership_shape() {
+        // core [0.9, 1.1], flanks to 0.8 / 1.2, bias 0.1.
+        let t = Trapezoid::new(1.0, 0.2, 0.1, 1.0, 0.1);
+        assert_eq!(t.linear(1.05), 1.0);
+        assert!((t.linear(1.15) - 0.5).abs() < 1e-5);
+        assert_eq!(t.linear(5.0), 0.1);
+        assert_eq!(t.linear(f32::NAN), 0.1);
+    }
+
+    #[test]
+    fn angular_wraps() {
+        let t = Trapezoid::new(PI - 0.05, 0.2, 0.0, 1.0, 0.0);
+        assert_eq!(t.angular(-PI + 0.02), 1.0); // 0.07 rad away across ±π
+        assert_eq!(t.angular(0.0), 0.0);
+    }
+
+    #[test]
+    fn intersection_across_pi_stays_there() {
+        let a = Trapezoid::new(PI - 0.1, 0.2, 0.1, 1.0, 0.2);
+        let b = Trapezoid::new(-PI + 0.1, 0.2, 0.1, 1.0, 0.5);
+        // Cores [π-0.2, π] and [-π, -π+0.2] touch at π: core collapses to π.
+        let c = a.intersect_angle(&b);
+        assert!(wrap_pi(c.center - PI).abs() < 1e-5, "{c:?}");
+        assert!((c.height - 1.0).abs() < 1e-6);
+        assert!((c.bias - 0.1).abs() < 1e-6);
+    }
+
+    #[test]
+    fn full_circle_is_neutral() {
+        let a = Trapezoid::full_circle();
+        let b = Trapezoid::new(3.0, 0.4, 0.2, 1.0, 0.3);
+        let c = a.intersect_angle(&b);
+        assert!((c.center - 3.0).abs() < 1e-5, "{c:?}");
+        assert!((c.core - 0.4).abs() < 1e-5);
+        assert!((c.slope - 0.2).abs() < 1e-5);
+        assert!((c.bias - 0.3).abs() < 1e-6);
+        assert!((a.consistency(&b) - 1.0).abs() < 1e-6);
+    }
+}
