@@ -25,7 +25,7 @@ pub use cap::Region;
 pub use cells::FuzzyGrid;
 pub use config::{Combine, ElementShape, GridConfig, SensorModel};
 pub use estimate::Estimate;
-pub use observe::{Landmark, LandmarkTable};
+pub use observe::{Landmark, LandmarkTable, Observation};
 pub use predict::Motion;
 pub use trapezoid::{wrap_pi, Trapezoid};
 

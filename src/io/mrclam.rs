@@ -1,0 +1,498 @@
+//! Reader for the UTIAS MRCLAM data set (dataset 7) and the merger that turns
+//! one robot's files into a time-ordered stream of [`MetricFrame`]s.
+//!
+//! The reader does no I/O of its own: each `read_*` function takes any
+//! [`BufRead`] the caller opened (a file, a `&[u8]` of text already in
+//! memory, a decompressor). Lines starting with `#` and blank lines are
+//! skipped; any other line must have the file's columns, else a
+//! [`MrclamError::Malformed`] names the file kind, the 1-based line number
+//! and what was wrong.
+//!
+//! Measurements carry *barcode* numbers, mapped to subject ids through
+//! `Barcodes.dat`; a barcode in neither list (a misread) is dropped and
+//! counted in [`Measurements::misread`].
+//!
+//! # Complexity
+//!
+//! Reading is O(lines). [`merge`] is O((odometry + measurements) + frames ·
+//! log truth).
+//!
+//! # Example
+//!
+//! ```
+//! use lplace::io::mrclam::{read_barcodes, read_measurements, read_odometry, merge, MergeOptions};
+//! let codes = read_barcodes("# header\n1 5\n6 63\n".as_bytes()).unwrap();
+//! let odo = read_odometry("10.0 0.1 0.0\n10.5 0.1 0.0\n11.0 0.0 0.0\n".as_bytes()).unwrap();
+//! let meas = read_measurements("10.5 63 2.0 0.1\n10.5 34 1.0 0.0\n".as_bytes(), &codes).unwrap();
+//! assert_eq!(meas.misread, 1);
+//! let frames = merge(&odo, &meas.rows, &[], &MergeOptions::default());
+//! let f = frames.iter().find(|f| !f.observations.is_empty()).unwrap();
+//! assert_eq!(f.observations[0].subject, 6);
+//! assert!((f.t - 10.5).abs() < 1e-9);
+//! ```
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::io::BufRead;
+
+/// Which MRCLAM file a row came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FileKind {
+    /// `Barcodes.dat`.
+    Barcodes,
+    /// `Landmark_Groundtruth.dat`.
+    LandmarkGroundtruth,
+    /// `RobotN_Odometry.dat`.
+    Odometry,
+    /// `RobotN_Measurement.dat`.
+    Measurement,
+    /// `RobotN_Groundtruth.dat`.
+    Groundtruth,
+}
+
+/// Why a line was rejected.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum LineProblem {
+    /// Wrong number of whitespace-separated fields.
+    FieldCount {
+        /// Fields the file kind has.
+        expected: usize,
+        /// Fields found.
+        found: usize,
+    },
+    /// A field does not parse as a number of the right kind.
+    NotANumber {
+        /// 1-based column.
+        column: usize,
+        /// The field's text.
+        text: String,
+    },
+    /// A field parses but is NaN or infinite.
+    NonFinite {
+        /// 1-based column.
+        column: usize,
+    },
+    /// A range is negative.
+    NegativeRange,
+    /// A time is earlier than the previous row's.
+    TimeGoesBack {
+        /// Previous time.
+        previous: f64,
+        /// This row's time.
+        time: f64,
+    },
+}
+
+impl std::fmt::Display for LineProblem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LineProblem::FieldCount { expected, found } => write!(f, "expected {expected} fields, found {found}"),
+            LineProblem::NotANumber { column, text } => write!(f, "column {column}: `{text}` is not a number"),
+            LineProblem::NonFinite { column } => write!(f, "column {column}: not a finite number"),
+            LineProblem::NegativeRange => write!(f, "negative range"),
+            LineProblem::TimeGoesBack { previous, time } => write!(f, "time {time} is before the previous row's {previous}"),
+        }
+    }
+}
+
+/// Errors of the MRCLAM reader.
+#[derive(Debug, thiserror::Error)]
+pub enum MrclamError {
+    /// A line that is neither a comment nor a valid row.
+    #[error("{file:?} line {line}: {problem}")]
+    Malformed {
+        /// File kind.
+        file: FileKind,
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        problem: LineProblem,
+    },
+    /// The underlying reader failed (or the text is not UTF-8).
+    #[error("{file:?} line {line}: read error: {source}")]
+    Read {
+        /// File kind.
+        file: FileKind,
+        /// 1-based number of the line being read.
+        line: usize,
+        /// The I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// Barcode → subject id (`Barcodes.dat`).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Barcodes {
+    /// Barcode number → subject id.
+    pub subject_of: BTreeMap<u32, u32>,
+}
+
+/// A surveyed landmark (`Landmark_Groundtruth.dat`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LandmarkTruth {
+    /// Subject id (6–20).
+    pub subject: u32,
+    /// x (m).
+    pub x: f64,
+    /// y (m).
+    pub y: f64,
+    /// Standard deviation of x (m).
+    pub x_std: f64,
+    /// Standard deviation of y (m).
+    pub y_std: f64,
+}
+
+/// `time v ω` row of `RobotN_Odometry.dat`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct OdometryRow {
+    /// Time (s, Unix epoch).
+    pub t: f64,
+    /// Forward velocity (m/s).
+    pub v: f64,
+    /// Angular velocity (rad/s).
+    pub w: f64,
+}
+
+/// A measurement with its barcode already mapped to a subject id.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MeasurementRow {
+    /// Time (s).
+    pub t: f64,
+    /// Subject id (1–5 robots, 6–20 landmarks).
+    pub subject: u32,
+    /// Range (m).
+    pub range: f64,
+    /// Bearing (rad, robot frame, CCW).
+    pub bearing: f64,
+}
+
+/// The measurements of one robot and what was dropped.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Measurements {
+    /// Rows with a known barcode, in file order.
+    pub rows: Vec<MeasurementRow>,
+    /// Number of rows dropped because their barcode is in no list.
+    pub misread: usize,
+    /// Those barcodes with their counts.
+    pub misread_barcodes: BTreeMap<u32, usize>,
+}
+
+/// `time x y θ` row of `RobotN_Groundtruth.dat`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TruthRow {
+    /// Time (s).
+    pub t: f64,
+    /// x (m).
+    pub x: f64,
+    /// y (m).
+    pub y: f64,
+    /// Heading (rad).
+    pub theta: f64,
+}
+
+/// A planar pose.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Pose2 {
+    /// x (m).
+    pub x: f64,
+    /// y (m).
+    pub y: f64,
+    /// Heading (rad, in (−π, π]).
+    pub theta: f64,
+}
+
+/// Odometry integrated over a frame's interval, in the robot frame at its start.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct OdometryIncrement {
+    /// Displacement along the initial heading (m).
+    pub forward: f64,
+    /// Displacement to the initial left (m).
+    pub lateral: f64,
+    /// Rotation (rad).
+    pub turn: f64,
+    /// Length of the interval (s).
+    pub dt: f64,
+}
+
+/// One range + bearing reading of a subject.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LandmarkReading {
+    /// Subject id (landmarks 6–20; robots 1–5 are kept for cooperative use).
+    pub subject: u32,
+    /// Range (m).
+    pub range: f64,
+    /// Bearing (rad).
+    pub bearing: f64,
+}
+
+/// One step of the metric stream: motion since the previous frame, what was
+/// seen at `t`, and where the robot truly was.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MetricFrame {
+    /// Time (s).
+    pub t: f64,
+    /// Odometry since the previous frame.
+    pub odometry: OdometryIncrement,
+    /// Readings taken at `t`.
+    pub observations: Vec<LandmarkReading>,
+    /// Ground-truth pose interpolated at `t`, when available.
+    pub truth: Option<Pose2>,
+}
+
+/// How [`merge`] cuts the stream into frames.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MergeOptions {
+    /// Longest time without a frame: an odometry-only frame is emitted when
+    /// no measurement arrives for this long (s). Default 0.5.
+    pub max_frame_gap: f64,
+    /// Truth is interpolated only between samples at most this far apart (s).
+    /// Default 1.0.
+    pub max_truth_gap: f64,
+}
+
+impl Default for MergeOptions {
+    fn default() -> Self {
+        MergeOptions { max_frame_gap: 0.5, max_truth_gap: 1.0 }
+    }
+}
+
+/// Runs `f` on the fields of every data line.
+fn for_rows<R: BufRead>(
+    mut r: R,
+    file: FileKind,
+    cols: usize,
+    mut f: impl FnMut(usize, &[f64], &[&str]) -> Result<(), LineProblem>,
+) -> Result<(), MrclamError> {
+    let mut buf = String::new();
+    let mut line = 0usize;
+    let mut nums = Vec::with_capacity(cols);
+    let mut toks: Vec<&str>;
+    loop {
+        buf.clear();
+        line += 1;
+        match r.read_line(&mut buf) {
+            Ok(0) => return Ok(()),
+            Ok(_) => {}
+            Err(source) => return Err(MrclamError::Read { file, line, source }),
+        }
+        let text = buf.trim();
+        if text.is_empty() || text.starts_with('#') {
+            continue;
+        }
+        toks = text.split_whitespace().collect();
+        let bad = |problem| MrclamError::Malformed { file, line, problem };
+        if toks.len() != cols {
+            return Err(bad(LineProblem::FieldCount { expected: cols, found: toks.len() }));
+        }
+        nums.clear();
+        for (k, t) in toks.iter().enumerate() {
+            let v: f64 = t.parse().map_err(|_| bad(LineProblem::NotANumber { column: k + 1, text: (*t).to_string() }))?;
+            if !v.is_finite() {
+                return Err(bad(LineProblem::NonFinite { column: k + 1 }));
+            }
+            nums.push(v);
+        }
+        f(line, &nums, &toks).map_err(bad)?;
+    }
+}
+
+/// Parses a field that must be a non-negative integer id.
+fn id(toks: &[&str], k: usize) -> Result<u32, LineProblem> {
+    toks[k].parse().map_err(|_| LineProblem::NotANumber { column: k + 1, text: toks[k].to_string() })
+}
+
+fn monotone(prev: &mut f64, t: f64) -> Result<(), LineProblem> {
+    if t < *prev {
+        return Err(LineProblem::TimeGoesBack { previous: *prev, time: t });
+    }
+    *prev = t;
+    Ok(())
+}
+
+/// Reads `Barcodes.dat` (`subject barcode`).
+pub fn read_barcodes<R: BufRead>(r: R) -> Result<Barcodes, MrclamError> {
+    let mut b = Barcodes::default();
+    for_rows(r, FileKind::Barcodes, 2, |_, _, t| {
+        let subject = id(t, 0)?;
+        b.subject_of.insert(id(t, 1)?, subject);
+        Ok(())
+    })?;
+    Ok(b)
+}
+
+/// Reads `Landmark_Groundtruth.dat` (`subject x y x_std y_std`).
+pub fn read_landmarks<R: BufRead>(r: R) -> Result<Vec<LandmarkTruth>, MrclamError> {
+    let mut out = Vec::new();
+    for_rows(r, FileKind::LandmarkGroundtruth, 5, |_, n, t| {
+        out.push(LandmarkTruth { subject: id(t, 0)?, x: n[1], y: n[2], x_std: n[3], y_std: n[4] });
+        Ok(())
+    })?;
+    Ok(out)
+}
+
+/// Reads `RobotN_Odometry.dat` (`time v ω`); times must not decrease.
+pub fn read_odometry<R: BufRead>(r: R) -> Result<Vec<OdometryRow>, MrclamError> {
+    let mut out = Vec::new();
+    let mut prev = f64::NEG_INFINITY;
+    for_rows(r, FileKind::Odometry, 3, |_, n, _| {
+        monotone(&mut prev, n[0])?;
+        out.push(OdometryRow { t: n[0], v: n[1], w: n[2] });
+        Ok(())
+    })?;
+    Ok(out)
+}
+
+/// Reads `RobotN_Measurement.dat` (`time barcode range bearing`), mapping
+/// barcodes through `codes`; unknown barcodes are dropped and counted.
+pub fn read_measurements<R: BufRead>(r: R, codes: &Barcodes) -> Result<Measurements, MrclamError> {
+    let mut m = Measurements::default();
+    let mut prev = f64::NEG_INFINITY;
+    for_rows(r, FileKind::Measurement, 4, |_, n, t| {
+        monotone(&mut prev, n[0])?;
+        let barcode = id(t, 1)?;
+        if n[2] < 0.0 {
+            return Err(LineProblem::NegativeRange);
+        }
+        match codes.subject_of.get(&barcode) {
+            Some(&subject) => m.rows.push(MeasurementRow { t: n[0], subject, range: n[2], bearing: n[3] }),
+            None => {
+                m.misread += 1;
+                *m.misread_barcodes.entry(barcode).or_insert(0) += 1;
+            }
+        }
+        Ok(())
+    })?;
+    Ok(m)
+}
+
+/// Reads `RobotN_Groundtruth.dat` (`time x y θ`); times must not decrease.
+pub fn read_groundtruth<R: BufRead>(r: R) -> Result<Vec<TruthRow>, MrclamError> {
+    let mut out = Vec::new();
+    let mut prev = f64::NEG_INFINITY;
+    for_rows(r, FileKind::Groundtruth, 4, |_, n, _| {
+        monotone(&mut prev, n[0])?;
+        out.push(TruthRow { t: n[0], x: n[1], y: n[2], theta: n[3] });
+        Ok(())
+    })?;
+    Ok(out)
+}
+
+fn wrap(a: f64) -> f64 {
+    let t = std::f64::consts::TAU;
+    let r = (a + std::f64::consts::PI).rem_euclid(t) - std::f64::consts::PI;
+    if r <= -std::f64::consts::PI {
+        r + t
+    } else {
+        r
+    }
+}
+
+/// Ground truth at `t`, linearly interpolated (heading the short way round);
+/// `None` outside the recording or across a gap longer than `max_gap`.
+pub fn interpolate_truth(truth: &[TruthRow], t: f64, max_gap: f64) -> Option<Pose2> {
+    let k = truth.partition_point(|r| r.t <= t);
+    if k == 0 {
+        return None;
+    }
+    let a = truth[k - 1];
+    if a.t == t || k == truth.len() {
+        return (a.t == t).then_some(Pose2 { x: a.x, y: a.y, theta: wrap(a.theta) });
+    }
+    let b = truth[k];
+    if b.t - a.t > max_gap {
+        return None;
+    }
+    let u = (t - a.t) / (b.t - a.t);
+    Some(Pose2 {
+        x: a.x + u * (b.x - a.x),
+        y: a.y + u * (b.y - a.y),
+        theta: wrap(a.theta + u * wrap(b.theta - a.theta)),
+    })
+}
+
+/// Integrates unicycle motion (`v`, `ω` held for `dt`) onto a pose expressed
+/// in the frame's start coordinates.
+fn integrate(p: &mut Pose2, v: f64, w: f64, dt: f64) {
+    if dt <= 0.0 {
+        return;
+    }
+    if w.abs() < 1e-9 {
+        p.x += v * dt * p.theta.cos();
+        p.y += v * dt * p.theta.sin();
+    } else {
+        let th1 = p.theta + w * dt;
+        p.x += v / w * (th1.sin() - p.theta.sin());
+        p.y -= v / w * (th1.cos() - p.theta.cos());
+        p.theta = th1;
+    }
+}
+
+/// Merges one robot's odometry, measurements and truth into frames.
+///
+/// Frames fall on every distinct measurement time within the odometry's time
+/// span, plus odometry-only frames so that no two consecutive frames are more
+/// than `max_frame_gap` apart; the first frame is at the first odometry time.
+/// Each odometry row's `(v, ω)` holds until the next row (zero-order hold),
+/// and the motion between consecutive frames is integrated exactly for a
+/// unicycle. Measurements outside the odometry span are left out.
+pub fn merge(odometry: &[OdometryRow], meas: &[MeasurementRow], truth: &[TruthRow], opts: &MergeOptions) -> Vec<MetricFrame> {
+    let (Some(first), Some(last)) = (odometry.first(), odometry.last()) else {
+        return Vec::new();
+    };
+    let (t0, t1) = (first.t, last.t);
+    let gap = if opts.max_frame_gap > 0.0 && opts.max_frame_gap.is_finite() { opts.max_frame_gap } else { f64::INFINITY };
+    // Frame times.
+    let mut times = vec![t0];
+    let mut mi = meas.partition_point(|m| m.t < t0);
+    let mut mt: Vec<f64> = Vec::new();
+    while mi < meas.len() && meas[mi].t <= t1 {
+        if mt.last() != Some(&meas[mi].t) {
+            mt.push(meas[mi].t);
+        }
+        mi += 1;
+    }
+    mt.push(t1);
+    for &t in &mt {
+        let mut prev = *times.last().unwrap_or(&t0);
+        while t - prev > gap {
+            prev += gap;
+            times.push(prev);
+        }
+        if t > prev {
+            times.push(t);
+        }
+    }
+    // Walk the odometry along the frame times.
+    let mut frames = Vec::with_capacity(times.len());
+    let mut oi = 0usize; // current odometry row: odometry[oi].t <= now
+    let mut now = t0;
+    let mut mj = meas.partition_point(|m| m.t < t0);
+    for &t in &times {
+        let mut p = Pose2::default();
+        while now < t {
+            while oi + 1 < odometry.len() && odometry[oi + 1].t <= now {
+                oi += 1;
+            }
+            let end = if oi + 1 < odometry.len() { odometry[oi + 1].t.min(t) } else { t };
+            integrate(&mut p, odometry[oi].v, odometry[oi].w, end - now);
+            now = end;
+        }
+        let dt = frames.last().map_or(0.0, |f: &MetricFrame| t - f.t);
+        let mut observations = Vec::new();
+        while mj < meas.len() && meas[mj].t <= t {
+            if meas[mj].t == t {
+                let m = meas[mj];
+                observations.push(LandmarkReading { subject: m.subject, range: m.range, bearing: m.bearing });
+            }
+            mj += 1;
+        }
+        frames.push(MetricFrame {
+            t,
+            odometry: OdometryIncrement { forward: p.x, lateral: p.y, turn: p.theta, dt },
+            observations,
+            truth: interpolate_truth(truth, t, opts.max_truth_gap),
+        });
+    }
+    frames
+}
