@@ -1,0 +1,140 @@
+//! Hand-worked cases: paper 000 Fig. 4 (angle-set intersection) and the
+//! RoboCup field of §2 and §6 (localisation from range + bearing, recovery
+//! from a mislabelled landmark).
+
+use lplace::grid::{FuzzyGrid, GridConfig, Landmark, LandmarkTable, Observation, Region, Trapezoid};
+use std::f32::consts::PI;
+
+fn close(a: f32, b: f32) -> bool {
+    (a - b).abs() < 1e-4
+}
+
+#[test]
+fn fig4_overlapping_cores() {
+    // A: core [-0.2, 0.2], support [-0.4, 0.4]. B: core [0.1, 0.5], support [-0.1, 0.7].
+    // Cores meet on [0.1, 0.2] at height 1 → centre 0.15, Δ 0.1. Supports meet on
+    // [-0.1, 0.4]: flanks 0.1 − (−0.1) = 0.2 and 0.4 − 0.2 = 0.2. b = 0.1 · 0.2.
+    let a = Trapezoid::new(0.0, 0.4, 0.2, 1.0, 0.1);
+    let b = Trapezoid::new(0.3, 0.4, 0.2, 1.0, 0.2);
+    let c = a.intersect_angle(&b);
+    assert!(close(c.center, 0.15) && close(c.core, 0.1) && close(c.slope, 0.2), "{c:?}");
+    assert!(close(c.height, 1.0) && close(c.bias, 0.02), "{c:?}");
+}
+
+#[test]
+fn fig4_flanks_only() {
+    // A: core [-0.1, 0.1], falls to 0 at 0.3. B: core [0.3, 0.5], rises from 0 at 0.1.
+    // The flanks cross at 0.2 at level 0.5: a peak of height 0.5, no core.
+    // Supports meet on [0.1, 0.3] → flank min(0.1, 0.1). b = 0.5 · 0.5.
+    let a = Trapezoid::new(0.0, 0.2, 0.2, 1.0, 0.5);
+    let b = Trapezoid::new(0.4, 0.2, 0.2, 1.0, 0.5);
+    let c = a.intersect_angle(&b);
+    assert!(close(c.center, 0.2) && close(c.core, 0.0) && close(c.slope, 0.1), "{c:?}");
+    assert!(close(c.height, 0.5) && close(c.bias, 0.25), "{c:?}");
+    assert!(close(a.consistency(&b), 0.5));
+}
+
+#[test]
+fn fig4_disjoint_takes_outer_envelope_of_union() {
+    // A: core [-0.1, 0.1], support [-0.2, 0.2]. B: core [0.9, 1.1], support [0.8, 1.2].
+    // No overlap: core spans [-0.1, 1.1] (centre 0.5, Δ 1.2), flank 0.1, height 1,
+    // bias grows to 1 − 0.9 · 0.8 = 0.28.
+    let a = Trapezoid::new(0.0, 0.2, 0.1, 1.0, 0.1);
+    let b = Trapezoid::new(1.0, 0.2, 0.1, 1.0, 0.2);
+    let c = a.intersect_angle(&b);
+    assert!(close(c.center, 0.5) && close(c.core, 1.2) && close(c.slope, 0.1), "{c:?}");
+    assert!(close(c.height, 1.0) && close(c.bias, 0.28), "{c:?}");
+    // The plane factor of contradicting headings is the larger bias.
+    assert!(close(a.consistency(&b), 0.2));
+}
+
+#[test]
+fn fig4_across_the_pi_seam() {
+    // A at 3.0, B at −3.0: B is 2π − 6 = 0.2832 to A's left... i.e. ahead of A.
+    // In A's frame B's core is [0.0832, 0.4832]; cores meet on [0.0832, 0.2]:
+    // centre 3.0 + 0.1416 = π, Δ 0.1168; supports meet on [−0.1168, 0.4]: flanks 0.2.
+    let a = Trapezoid::new(3.0, 0.4, 0.2, 1.0, 0.5);
+    let b = Trapezoid::new(-3.0, 0.4, 0.2, 1.0, 0.5);
+    let c = a.intersect_angle(&b);
+    assert!(close(lplace::grid::wrap_pi(c.center - PI), 0.0), "{c:?}");
+    assert!(close(c.core, 0.1168) && close(c.slope, 0.2), "{c:?}");
+}
+
+/// Paper 000's field: 2 m × 3 m, six landmarks on the long sides.
+fn field() -> (LandmarkTable, [f32; 4]) {
+    let marks = [(1, -0.15, 0.0), (2, 2.15, 0.0), (3, -0.15, 1.5), (4, 2.15, 1.5), (5, -0.15, 3.0), (6, 2.15, 3.0)];
+    let t = LandmarkTable::new(marks.iter().map(|&(id, x, y)| Landmark { id, x, y }).collect()).unwrap();
+    (t, [0.0, 0.0, 2.0, 3.0])
+}
+
+fn reading(t: &LandmarkTable, id: u32, pose: (f32, f32, f32)) -> (f32, f32) {
+    let m = t.get(id).unwrap();
+    let (dx, dy) = (m.x - pose.0, m.y - pose.1);
+    (dx.hypot(dy), lplace::grid::wrap_pi(dy.atan2(dx) - pose.2))
+}
+
+fn see(g: &mut FuzzyGrid, t: &LandmarkTable, label: u32, really: u32, pose: (f32, f32, f32)) {
+    let (r, b) = reading(t, really, pose);
+    g.observe(t, &Observation { landmark: label, range: Some(r), bearing: Some(b) }).unwrap();
+}
+
+#[test]
+fn robocup_field_localises_from_range_and_bearing() {
+    let (t, bounds) = field();
+    let mut g = FuzzyGrid::new(GridConfig::default(), bounds).unwrap();
+    assert_eq!((g.nx(), g.ny()), (20, 30));
+    let pose = (0.7, 1.1, 0.3);
+    // Facing roughly +x: landmarks 2 and 4 are in front.
+    see(&mut g, &t, 2, 2, pose);
+    see(&mut g, &t, 4, 4, pose);
+    let e = g.estimate();
+    assert!((e.x - pose.0).hypot(e.y - pose.1) < 0.15, "{e:?}");
+    assert!(lplace::grid::wrap_pi(e.theta - pose.2).abs() < 0.1, "{e:?}");
+    assert!(e.reliability > 0.5, "{e:?}");
+}
+
+#[test]
+fn robocup_field_recovers_from_a_mislabelled_landmark() {
+    // Paper 000 §6: from total ignorance, see 2 and 3, then landmark 2 is
+    // mislabelled as 1, then 2 and 3 again.
+    let (t, bounds) = field();
+    let mut g = FuzzyGrid::new(GridConfig::default(), bounds).unwrap();
+    let pose = (1.2, 1.0, -0.6);
+    see(&mut g, &t, 2, 2, pose);
+    see(&mut g, &t, 3, 3, pose);
+    let good = g.estimate();
+    assert!((good.x - pose.0).hypot(good.y - pose.1) < 0.2, "{good:?}");
+    see(&mut g, &t, 1, 2, pose); // the mislabelling
+    let bad = g.estimate();
+    see(&mut g, &t, 2, 2, pose);
+    see(&mut g, &t, 3, 3, pose);
+    let back = g.estimate();
+    assert!((back.x - pose.0).hypot(back.y - pose.1) < 0.2, "bad {bad:?} → {back:?}");
+    assert!(back.reliability > bad.reliability.min(0.5), "{bad:?} → {back:?}");
+}
+
+#[test]
+fn place_cap_bounds_cells_by_their_places() {
+    let (_, bounds) = field();
+    let mut g = FuzzyGrid::new(GridConfig::default(), bounds).unwrap();
+    let regions = [
+        (Region::Box { x_min: 0.0, y_min: 0.0, x_max: 1.0, y_max: 1.0 }, 0.7),
+        (Region::Disc { x: 1.0, y: 1.0, r: 0.3 }, 0.9),
+    ];
+    g.cap_places(&regions, 0.2).unwrap();
+    assert_eq!(g.possibility(2, 2), 0.7); // box only
+    assert_eq!(g.possibility(9, 9), 0.9); // in both: the larger
+    assert_eq!(g.possibility(15, 25), 0.2); // in neither
+    assert!(g.cap_places(&[(Region::Disc { x: 0.0, y: 0.0, r: -1.0 }, 0.5)], 0.0).is_err());
+    assert!(g.cap_places(&regions, f32::NAN).is_err());
+}
+
+#[test]
+fn config_round_trips_through_ron_and_rejects_nonsense() {
+    let text = ron::to_string(&GridConfig::default()).unwrap();
+    assert_eq!(GridConfig::from_ron(&text).unwrap(), GridConfig::default());
+    assert!(GridConfig::from_ron("(cell_size: -1.0)").is_err());
+    assert!(matches!(GridConfig::from_ron("(cell_size: )"), Err(lplace::grid::GridError::Ron { .. })));
+    let shipped = include_str!("../config/grid-mrclam.ron");
+    GridConfig::from_ron(shipped).unwrap();
+}
