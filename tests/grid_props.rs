@@ -30,7 +30,7 @@ fn prof(u: f32, core: f32, flank: f32) -> f32 {
 }
 
 fn raw_cfg(element: ElementShape) -> GridConfig {
-    GridConfig { normalize: false, flush_below: 0.0, element, ..GridConfig::default() }
+    GridConfig { normalize: false, flush_below: 0.0, floor: 0.0, element, ..GridConfig::default() }
 }
 
 fn grid_with(cfg: GridConfig, nx: usize, ny: usize, vals: &[f32]) -> FuzzyGrid {

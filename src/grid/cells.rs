@@ -181,8 +181,9 @@ impl FuzzyGrid {
         }
     }
 
-    /// After an update: flush tiny values, measure the height, and rescale to
-    /// height 1 when configured. A plane driven to 0 everywhere (possible only
+    /// After an update: flush tiny values, measure the height, rescale to
+    /// height 1 when configured, and raise cells to the configured floor
+    /// (forgetting their heading). A plane driven to 0 everywhere (possible only
     /// with zero biases) carries no information and restarts from ignorance.
     pub(crate) fn finish_update(&mut self) -> f32 {
         let flush = self.cfg.flush_below;
@@ -205,10 +206,24 @@ impl FuzzyGrid {
             self.last_height = 0.0;
             return 0.0;
         }
-        if self.cfg.normalize && max < 1.0 {
-            let k = 1.0 / max;
-            for v in self.h.iter_mut() {
-                *v = (*v * k).min(1.0);
+        let k = if self.cfg.normalize && max < 1.0 { 1.0 / max } else { 1.0 };
+        let floor = self.cfg.floor;
+        if k != 1.0 || floor > 0.0 {
+            for (i, v) in self.h.iter_mut().enumerate() {
+                let n = (*v * k).min(1.0);
+                if n < floor {
+                    *v = floor;
+                    self.theta[i] = 0.0;
+                    self.delta[i] = 2.0 * PI;
+                    self.alpha[i] = 0.0;
+                    self.bias[i] = 1.0;
+                } else {
+                    // Keep π(x, y, θ) = h · max(b, ramp(θ)) ≥ floor for every θ.
+                    if n * self.bias[i] < floor {
+                        self.bias[i] = floor / n;
+                    }
+                    *v = n;
+                }
             }
         }
         max

@@ -85,8 +85,9 @@ pub struct GridConfig {
     /// Explicit extent `[x_min, y_min, x_max, y_max]` in metres; overrides the
     /// landmark box when set. Default none.
     pub bounds: Option<[f32; 4]>,
-    /// Range sensor model. Default core 0.1 m + 5 % of r, flank 0.2 m + 5 %,
-    /// bias 0.1.
+    /// Range sensor model. Default core 0.1 m + 5 % of r, flank 0.2 m + 15 %
+    /// (MRCLAM's camera under-reads by up to 10 % at the edge of its field of
+    /// view, repeatedly), bias 0.1.
     pub range: SensorModel,
     /// Bearing sensor model. Default core 0.06 rad, flank 0.1 rad, bias 0.1.
     pub bearing: SensorModel,
@@ -122,6 +123,17 @@ pub struct GridConfig {
     /// Values below this are flushed to 0 after an update, which keeps the
     /// arithmetic out of subnormal floats. Default 1e-9.
     pub flush_below: f32,
+    /// Possibility every cell keeps after normalisation: the robot may have
+    /// been carried anywhere (paper 000 §1: "the robot can be pushed … in
+    /// unexpected locations"). A cell raised to the floor forgets its heading
+    /// (its set becomes the full circle), and a cell above it gets its heading
+    /// bias raised to `floor / h`, so that `π(x, y, θ) ≥ floor` for every
+    /// heading; fresh consistent observations can
+    /// build a new peak there within a few updates: this is what makes the
+    /// grid recover from a kidnap. 0 disables it. Default 1e-8: on MRCLAM,
+    /// 1e-3…1e-5 let a run of biased readings of one landmark cluster pull
+    /// the estimate onto a distant ring of floor cells.
+    pub floor: f32,
     /// Fraction of the maximum that defines the region whose centre of
     /// gravity is the position estimate. Default 0.5.
     pub cog_cut: f32,
@@ -141,7 +153,7 @@ impl Default for GridConfig {
             cell_size: 0.1,
             margin: 1.5,
             bounds: None,
-            range: SensorModel { core_abs: 0.1, core_rel: 0.05, slope_abs: 0.2, slope_rel: 0.05, bias: 0.1 },
+            range: SensorModel { core_abs: 0.1, core_rel: 0.05, slope_abs: 0.2, slope_rel: 0.15, bias: 0.1 },
             bearing: SensorModel { core_abs: 0.06, core_rel: 0.0, slope_abs: 0.1, slope_rel: 0.0, bias: 0.1 },
             combine: Combine::Product,
             normalize: true,
@@ -154,6 +166,7 @@ impl Default for GridConfig {
             delta_per_second: 0.01,
             directed_min_reliability: 0.8,
             flush_below: 1e-9,
+            floor: 1e-8,
             cog_cut: 0.5,
             top_cut: 0.9,
             reliability_area: 0.25,
@@ -198,6 +211,7 @@ impl GridConfig {
         }
         for (field, v) in [
             ("directed_min_reliability", self.directed_min_reliability),
+            ("floor", self.floor),
             ("cog_cut", self.cog_cut),
             ("top_cut", self.top_cut),
             ("fix_reliability", self.fix_reliability),

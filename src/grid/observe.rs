@@ -262,6 +262,21 @@ impl FuzzyGrid {
                 };
                 let mut o = obs;
                 o.center = super::wrap_pi(fast_atan2(dy, dx) - bearing);
+                if self.delta[i] >= 2.0 * PI {
+                    // Heading unknown: the intersection is the observation's
+                    // set and the consistency is 1 (exactly what
+                    // `intersect_angle` gives, without its work).
+                    self.theta[i] = o.center;
+                    self.delta[i] = o.core;
+                    self.alpha[i] = o.slope;
+                    self.bias[i] *= o.bias;
+                    let v = &mut self.h[i];
+                    *v = match combine {
+                        Combine::Product => *v * f,
+                        Combine::Min => v.min(f),
+                    };
+                    continue;
+                }
                 let a = Trapezoid {
                     center: self.theta[i],
                     core: self.delta[i],
