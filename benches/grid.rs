@@ -8,11 +8,16 @@ use lplace::grid::{FuzzyGrid, GridConfig, Motion};
 
 fn grid(nx: usize, ny: usize) -> FuzzyGrid {
     let s = 0.1;
-    let mut g = FuzzyGrid::new(GridConfig::default(), [0.0, 0.0, nx as f32 * s, ny as f32 * s]).unwrap();
+    let mut g = FuzzyGrid::new(
+        GridConfig::default(),
+        [0.0, 0.0, nx as f32 * s, ny as f32 * s],
+    )
+    .unwrap();
     // A realistic, non-uniform belief: two range circles and a bearing.
     let (w, h) = (nx as f32 * s, ny as f32 * s);
     g.update_range(0.2 * w, 0.3 * h, 0.4 * w).unwrap();
-    g.update_range_bearing(0.8 * w, 0.6 * h, 0.3 * w, 0.4).unwrap();
+    g.update_range_bearing(0.8 * w, 0.6 * h, 0.3 * w, 0.4)
+        .unwrap();
     g
 }
 
@@ -24,15 +29,25 @@ fn bench(c: &mut Criterion) {
         let (w, h) = (nx as f32 * 0.1, ny as f32 * 0.1);
         grp.bench_function("clone", |b| b.iter(|| black_box(base.clone())));
         let mut g = base.clone();
-        grp.bench_function("update_range", |b| b.iter(|| g.update_range(black_box(0.5 * w), 0.5 * h, 0.3 * w.min(h)).unwrap()));
+        grp.bench_function("update_range", |b| {
+            b.iter(|| {
+                g.update_range(black_box(0.5 * w), 0.5 * h, 0.3 * w.min(h))
+                    .unwrap()
+            })
+        });
         let mut g = base.clone();
         grp.bench_function("update_range_bearing", |b| {
-            b.iter(|| g.update_range_bearing(black_box(0.5 * w), 0.5 * h, 0.3 * w.min(h), 0.2).unwrap())
+            b.iter(|| {
+                g.update_range_bearing(black_box(0.5 * w), 0.5 * h, 0.3 * w.min(h), 0.2)
+                    .unwrap()
+            })
         });
         for r in [1usize, 5, 10, 30] {
             let mut g = base.clone();
             let radius = r as f32 * 0.1;
-            grp.bench_with_input(BenchmarkId::new("dilate", r), &radius, |b, &radius| b.iter(|| g.dilate(0.0, black_box(radius))));
+            grp.bench_with_input(BenchmarkId::new("dilate", r), &radius, |b, &radius| {
+                b.iter(|| g.dilate(0.0, black_box(radius)))
+            });
         }
         grp.bench_function("estimate", |b| b.iter(|| black_box(base.estimate())));
         let mut g = base.clone();
@@ -41,8 +56,15 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 k = k.wrapping_add(1);
                 let turn = if k % 2 == 0 { 0.05 } else { -0.05 };
-                g.predict(&Motion { forward: 0.05, lateral: 0.0, turn, dt: 0.2 }).unwrap();
-                g.update_range_bearing(0.5 * w, 0.5 * h, 0.3 * w.min(h), 0.2).unwrap();
+                g.predict(&Motion {
+                    forward: 0.05,
+                    lateral: 0.0,
+                    turn,
+                    dt: 0.2,
+                })
+                .unwrap();
+                g.update_range_bearing(0.5 * w, 0.5 * h, 0.3 * w.min(h), 0.2)
+                    .unwrap();
                 black_box(g.estimate())
             })
         });

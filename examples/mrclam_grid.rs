@@ -25,12 +25,25 @@ fn open(dir: &std::path::Path, name: &str) -> Result<BufReader<File>, Box<dyn st
     Ok(BufReader::new(File::open(dir.join(name))?))
 }
 
-fn load(dir: &std::path::Path, robot: u32) -> Result<(LandmarkTable, Vec<MetricFrame>, usize), Box<dyn std::error::Error>> {
+fn load(
+    dir: &std::path::Path,
+    robot: u32,
+) -> Result<(LandmarkTable, Vec<MetricFrame>, usize), Box<dyn std::error::Error>> {
     let codes = mrclam::read_barcodes(open(dir, "Barcodes.dat")?)?;
     let marks = mrclam::read_landmarks(open(dir, "Landmark_Groundtruth.dat")?)?;
-    let table = LandmarkTable::new(marks.iter().map(|m| Landmark { id: m.subject, x: m.x as f32, y: m.y as f32 }).collect())?;
+    let table = LandmarkTable::new(
+        marks
+            .iter()
+            .map(|m| Landmark {
+                id: m.subject,
+                x: m.x as f32,
+                y: m.y as f32,
+            })
+            .collect(),
+    )?;
     let odo = mrclam::read_odometry(open(dir, &format!("Robot{robot}_Odometry.dat"))?)?;
-    let meas = mrclam::read_measurements(open(dir, &format!("Robot{robot}_Measurement.dat"))?, &codes)?;
+    let meas =
+        mrclam::read_measurements(open(dir, &format!("Robot{robot}_Measurement.dat"))?, &codes)?;
     let truth = mrclam::read_groundtruth(open(dir, &format!("Robot{robot}_Groundtruth.dat"))?)?;
     let frames = mrclam::merge(&odo, &meas.rows, &truth, &MergeOptions::default());
     Ok((table, frames, meas.misread))
@@ -39,7 +52,10 @@ fn load(dir: &std::path::Path, robot: u32) -> Result<(LandmarkTable, Vec<MetricF
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dir = data_dir();
     if !dir.join("Barcodes.dat").exists() {
-        println!("MRCLAM dataset 7 not found at {} — set LPLACE_DATA; skipping.", dir.display());
+        println!(
+            "MRCLAM dataset 7 not found at {} — set LPLACE_DATA; skipping.",
+            dir.display()
+        );
         return Ok(());
     }
     let cfg = match std::env::args().nth(1) {
@@ -55,8 +71,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let start = std::time::Instant::now();
         let plain = run(&table, &cfg, frames.iter().cloned(), &RunOptions::default())?;
         let ms = start.elapsed().as_secs_f64() * 1e3 / n as f64;
-        let kid = RunOptions { kidnap: Some(Kidnap { time: t_mid, forward: 0.0, lateral: 2.0, turn: 1.5 }), ..RunOptions::default() };
-        let kidnapped: RunReport = run(&table, &cfg, frames.into_iter(), &kid)?;
+        let kid = RunOptions {
+            kidnap: Some(Kidnap {
+                time: t_mid,
+                forward: 0.0,
+                lateral: 2.0,
+                turn: 1.5,
+            }),
+            ..RunOptions::default()
+        };
+        let kidnapped: RunReport = run(&table, &cfg, frames, &kid)?;
         let f = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{v:.3}"));
         let ate = plain.ate;
         let rec = match kidnapped.recovery {

@@ -2,7 +2,9 @@
 //! RoboCup field of §2 and §6 (localisation from range + bearing, recovery
 //! from a mislabelled landmark).
 
-use lplace::grid::{FuzzyGrid, GridConfig, Landmark, LandmarkTable, Observation, Region, Trapezoid};
+use lplace::grid::{
+    FuzzyGrid, GridConfig, Landmark, LandmarkTable, Observation, Region, Trapezoid,
+};
 use std::f32::consts::PI;
 
 fn close(a: f32, b: f32) -> bool {
@@ -17,7 +19,10 @@ fn fig4_overlapping_cores() {
     let a = Trapezoid::new(0.0, 0.4, 0.2, 1.0, 0.1);
     let b = Trapezoid::new(0.3, 0.4, 0.2, 1.0, 0.2);
     let c = a.intersect_angle(&b);
-    assert!(close(c.center, 0.15) && close(c.core, 0.1) && close(c.slope, 0.2), "{c:?}");
+    assert!(
+        close(c.center, 0.15) && close(c.core, 0.1) && close(c.slope, 0.2),
+        "{c:?}"
+    );
     assert!(close(c.height, 1.0) && close(c.bias, 0.02), "{c:?}");
 }
 
@@ -29,7 +34,10 @@ fn fig4_flanks_only() {
     let a = Trapezoid::new(0.0, 0.2, 0.2, 1.0, 0.5);
     let b = Trapezoid::new(0.4, 0.2, 0.2, 1.0, 0.5);
     let c = a.intersect_angle(&b);
-    assert!(close(c.center, 0.2) && close(c.core, 0.0) && close(c.slope, 0.1), "{c:?}");
+    assert!(
+        close(c.center, 0.2) && close(c.core, 0.0) && close(c.slope, 0.1),
+        "{c:?}"
+    );
     assert!(close(c.height, 0.5) && close(c.bias, 0.25), "{c:?}");
     assert!(close(a.consistency(&b), 0.5));
 }
@@ -42,7 +50,10 @@ fn fig4_disjoint_takes_outer_envelope_of_union() {
     let a = Trapezoid::new(0.0, 0.2, 0.1, 1.0, 0.1);
     let b = Trapezoid::new(1.0, 0.2, 0.1, 1.0, 0.2);
     let c = a.intersect_angle(&b);
-    assert!(close(c.center, 0.5) && close(c.core, 1.2) && close(c.slope, 0.1), "{c:?}");
+    assert!(
+        close(c.center, 0.5) && close(c.core, 1.2) && close(c.slope, 0.1),
+        "{c:?}"
+    );
     assert!(close(c.height, 1.0) && close(c.bias, 0.28), "{c:?}");
     // The plane factor of contradicting headings is the larger bias.
     assert!(close(a.consistency(&b), 0.2));
@@ -62,8 +73,21 @@ fn fig4_across_the_pi_seam() {
 
 /// Paper 000's field: 2 m × 3 m, six landmarks on the long sides.
 fn field() -> (LandmarkTable, [f32; 4]) {
-    let marks = [(1, -0.15, 0.0), (2, 2.15, 0.0), (3, -0.15, 1.5), (4, 2.15, 1.5), (5, -0.15, 3.0), (6, 2.15, 3.0)];
-    let t = LandmarkTable::new(marks.iter().map(|&(id, x, y)| Landmark { id, x, y }).collect()).unwrap();
+    let marks = [
+        (1, -0.15, 0.0),
+        (2, 2.15, 0.0),
+        (3, -0.15, 1.5),
+        (4, 2.15, 1.5),
+        (5, -0.15, 3.0),
+        (6, 2.15, 3.0),
+    ];
+    let t = LandmarkTable::new(
+        marks
+            .iter()
+            .map(|&(id, x, y)| Landmark { id, x, y })
+            .collect(),
+    )
+    .unwrap();
     (t, [0.0, 0.0, 2.0, 3.0])
 }
 
@@ -75,7 +99,15 @@ fn reading(t: &LandmarkTable, id: u32, pose: (f32, f32, f32)) -> (f32, f32) {
 
 fn see(g: &mut FuzzyGrid, t: &LandmarkTable, label: u32, really: u32, pose: (f32, f32, f32)) {
     let (r, b) = reading(t, really, pose);
-    g.observe(t, &Observation { landmark: label, range: Some(r), bearing: Some(b) }).unwrap();
+    g.observe(
+        t,
+        &Observation {
+            landmark: label,
+            range: Some(r),
+            bearing: Some(b),
+        },
+    )
+    .unwrap();
 }
 
 #[test]
@@ -109,8 +141,14 @@ fn robocup_field_recovers_from_a_mislabelled_landmark() {
     see(&mut g, &t, 2, 2, pose);
     see(&mut g, &t, 3, 3, pose);
     let back = g.estimate();
-    assert!((back.x - pose.0).hypot(back.y - pose.1) < 0.2, "bad {bad:?} → {back:?}");
-    assert!(back.reliability > bad.reliability.min(0.5), "{bad:?} → {back:?}");
+    assert!(
+        (back.x - pose.0).hypot(back.y - pose.1) < 0.2,
+        "bad {bad:?} → {back:?}"
+    );
+    assert!(
+        back.reliability > bad.reliability.min(0.5),
+        "{bad:?} → {back:?}"
+    );
 }
 
 #[test]
@@ -118,14 +156,41 @@ fn place_cap_bounds_cells_by_their_places() {
     let (_, bounds) = field();
     let mut g = FuzzyGrid::new(GridConfig::default(), bounds).unwrap();
     let regions = [
-        (Region::Box { x_min: 0.0, y_min: 0.0, x_max: 1.0, y_max: 1.0 }, 0.7),
-        (Region::Disc { x: 1.0, y: 1.0, r: 0.3 }, 0.9),
+        (
+            Region::Box {
+                x_min: 0.0,
+                y_min: 0.0,
+                x_max: 1.0,
+                y_max: 1.0,
+            },
+            0.7,
+        ),
+        (
+            Region::Disc {
+                x: 1.0,
+                y: 1.0,
+                r: 0.3,
+            },
+            0.9,
+        ),
     ];
     g.cap_places(&regions, 0.2).unwrap();
     assert_eq!(g.possibility(2, 2), 0.7); // box only
     assert_eq!(g.possibility(9, 9), 0.9); // in both: the larger
     assert_eq!(g.possibility(15, 25), 0.2); // in neither
-    assert!(g.cap_places(&[(Region::Disc { x: 0.0, y: 0.0, r: -1.0 }, 0.5)], 0.0).is_err());
+    assert!(g
+        .cap_places(
+            &[(
+                Region::Disc {
+                    x: 0.0,
+                    y: 0.0,
+                    r: -1.0
+                },
+                0.5
+            )],
+            0.0
+        )
+        .is_err());
     assert!(g.cap_places(&regions, f32::NAN).is_err());
 }
 
@@ -134,7 +199,10 @@ fn config_round_trips_through_ron_and_rejects_nonsense() {
     let text = ron::to_string(&GridConfig::default()).unwrap();
     assert_eq!(GridConfig::from_ron(&text).unwrap(), GridConfig::default());
     assert!(GridConfig::from_ron("(cell_size: -1.0)").is_err());
-    assert!(matches!(GridConfig::from_ron("(cell_size: )"), Err(lplace::grid::GridError::Ron { .. })));
+    assert!(matches!(
+        GridConfig::from_ron("(cell_size: )"),
+        Err(lplace::grid::GridError::Ron { .. })
+    ));
     let shipped = include_str!("../config/grid-mrclam.ron");
     GridConfig::from_ron(shipped).unwrap();
 }

@@ -16,23 +16,91 @@ fn codes() -> Barcodes {
 #[test]
 fn malformed_lines_name_their_line() {
     let e = read_odometry("# header\n10.0 0.1 0.0\n10.1 0.1\n".as_bytes()).unwrap_err();
-    assert!(matches!(e, MrclamError::Malformed { file: FileKind::Odometry, line: 3, problem: LineProblem::FieldCount { expected: 3, found: 2 } }), "{e}");
+    assert!(
+        matches!(
+            e,
+            MrclamError::Malformed {
+                file: FileKind::Odometry,
+                line: 3,
+                problem: LineProblem::FieldCount {
+                    expected: 3,
+                    found: 2
+                }
+            }
+        ),
+        "{e}"
+    );
     let e = read_groundtruth("1.0 2.0 x 0.1\n".as_bytes()).unwrap_err();
-    assert!(matches!(e, MrclamError::Malformed { line: 1, problem: LineProblem::NotANumber { column: 3, .. }, .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            MrclamError::Malformed {
+                line: 1,
+                problem: LineProblem::NotANumber { column: 3, .. },
+                ..
+            }
+        ),
+        "{e}"
+    );
     let e = read_measurements("\n# c\n5.0 63 nan 0.1\n".as_bytes(), &codes()).unwrap_err();
-    assert!(matches!(e, MrclamError::Malformed { line: 3, problem: LineProblem::NonFinite { column: 3 }, .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            MrclamError::Malformed {
+                line: 3,
+                problem: LineProblem::NonFinite { column: 3 },
+                ..
+            }
+        ),
+        "{e}"
+    );
     let e = read_measurements("5.0 63 -1.0 0.1\n".as_bytes(), &codes()).unwrap_err();
-    assert!(matches!(e, MrclamError::Malformed { line: 1, problem: LineProblem::NegativeRange, .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            MrclamError::Malformed {
+                line: 1,
+                problem: LineProblem::NegativeRange,
+                ..
+            }
+        ),
+        "{e}"
+    );
     let e = read_odometry("2.0 0 0\n1.0 0 0\n".as_bytes()).unwrap_err();
-    assert!(matches!(e, MrclamError::Malformed { line: 2, problem: LineProblem::TimeGoesBack { .. }, .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            MrclamError::Malformed {
+                line: 2,
+                problem: LineProblem::TimeGoesBack { .. },
+                ..
+            }
+        ),
+        "{e}"
+    );
     let e = read_barcodes("1 5.5\n".as_bytes()).unwrap_err();
-    assert!(matches!(e, MrclamError::Malformed { line: 1, problem: LineProblem::NotANumber { column: 2, .. }, .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            MrclamError::Malformed {
+                line: 1,
+                problem: LineProblem::NotANumber { column: 2, .. },
+                ..
+            }
+        ),
+        "{e}"
+    );
     assert!(e.to_string().contains("line 1"));
 }
 
 #[test]
 fn misread_barcodes_are_dropped_and_counted() {
-    let m = read_measurements("1.0 63 2.0 0.1\n1.0 34 1.0 0.0\n2.0 52 1.0 0.0\n2.0 34 1.0 0.0\n3.0 5 1.5 0.2\n".as_bytes(), &codes()).unwrap();
+    let m = read_measurements(
+        "1.0 63 2.0 0.1\n1.0 34 1.0 0.0\n2.0 52 1.0 0.0\n2.0 34 1.0 0.0\n3.0 5 1.5 0.2\n"
+            .as_bytes(),
+        &codes(),
+    )
+    .unwrap();
     assert_eq!(m.rows.len(), 2);
     assert_eq!((m.rows[0].subject, m.rows[1].subject), (6, 1));
     assert_eq!(m.misread, 3);
@@ -45,7 +113,10 @@ fn merge_integrates_odometry_and_interpolates_truth() {
     let odo = read_odometry("0.0 1.0 0.0\n1.0 0.0 1.5707963\n2.0 0.0 0.0\n".as_bytes()).unwrap();
     let meas = read_measurements("1.0 63 2.0 0.1\n1.0 81 3.0 -0.1\n".as_bytes(), &codes()).unwrap();
     let truth = read_groundtruth("0.0 0 0 3.0\n2.0 2 4 -3.0\n".as_bytes()).unwrap();
-    let opts = MergeOptions { max_frame_gap: 10.0, max_truth_gap: 5.0 };
+    let opts = MergeOptions {
+        max_frame_gap: 10.0,
+        max_truth_gap: 5.0,
+    };
     let f = merge(&odo, &meas.rows, &truth, &opts);
     let times: Vec<f64> = f.iter().map(|f| f.t).collect();
     assert_eq!(times, vec![0.0, 1.0, 2.0]);
@@ -55,25 +126,60 @@ fn merge_integrates_odometry_and_interpolates_truth() {
     let t1 = f[1].truth.unwrap();
     assert!((t1.x - 1.0).abs() < 1e-9 && (t1.y - 2.0).abs() < 1e-9);
     // Heading interpolated the short way across ±π: 3.0 → −3.0 passes π.
-    assert!((t1.theta.abs() - std::f64::consts::PI).abs() < 0.01, "{t1:?}");
+    assert!(
+        (t1.theta.abs() - std::f64::consts::PI).abs() < 0.01,
+        "{t1:?}"
+    );
     // A gap of 0.3 s gives intermediate odometry-only frames.
-    let f = merge(&odo, &meas.rows, &truth, &MergeOptions { max_frame_gap: 0.3, max_truth_gap: 5.0 });
-    assert!(f.windows(2).all(|w| w[1].t - w[0].t <= 0.3 + 1e-9 && w[1].t > w[0].t));
+    let f = merge(
+        &odo,
+        &meas.rows,
+        &truth,
+        &MergeOptions {
+            max_frame_gap: 0.3,
+            max_truth_gap: 5.0,
+        },
+    );
+    assert!(f
+        .windows(2)
+        .all(|w| w[1].t - w[0].t <= 0.3 + 1e-9 && w[1].t > w[0].t));
 }
 
 #[test]
 fn tum_round_trip_and_errors() {
-    let p = [TumPose { t: 1248446182.116, x: 1.5, y: -2.0, yaw: -3.0 }, TumPose { t: 1248446183.0, x: 0.0, y: 0.0, yaw: 3.1 }];
+    let p = [
+        TumPose {
+            t: 1248446182.116,
+            x: 1.5,
+            y: -2.0,
+            yaw: -3.0,
+        },
+        TumPose {
+            t: 1248446183.0,
+            x: 0.0,
+            y: 0.0,
+            yaw: 3.1,
+        },
+    ];
     let mut buf = Vec::new();
     write_tum(&mut buf, &p).unwrap();
     let text = String::from_utf8(buf.clone()).unwrap();
     assert!(text.starts_with("1248446182.116000 1.500000 -2.000000 0 0 0 "));
     let back = read_tum(buf.as_slice()).unwrap();
     for (a, b) in p.iter().zip(&back) {
-        assert!((a.t - b.t).abs() < 1e-6 && (a.x - b.x).abs() < 1e-6 && (a.yaw - b.yaw).abs() < 1e-6);
+        assert!(
+            (a.t - b.t).abs() < 1e-6 && (a.x - b.x).abs() < 1e-6 && (a.yaw - b.yaw).abs() < 1e-6
+        );
     }
     let e = read_tum("# c\n1 2 3 4 5 6 7\n".as_bytes()).unwrap_err();
-    assert!(matches!(e, TumError::Malformed { line: 2, found: 7, .. }));
+    assert!(matches!(
+        e,
+        TumError::Malformed {
+            line: 2,
+            found: 7,
+            ..
+        }
+    ));
 }
 
 fn data_dir() -> PathBuf {
@@ -87,14 +193,27 @@ fn data_dir() -> PathBuf {
 fn mrclam_robot1_ate_is_locked_in() {
     let dir = data_dir();
     if !dir.join("Robot1_Measurement.dat").exists() {
-        eprintln!("SKIPPED: MRCLAM dataset 7 not found at {} (set LPLACE_DATA)", dir.display());
+        eprintln!(
+            "SKIPPED: MRCLAM dataset 7 not found at {} (set LPLACE_DATA)",
+            dir.display()
+        );
         return;
     }
     let open = |n: &str| BufReader::new(File::open(dir.join(n)).unwrap());
     let codes = read_barcodes(open("Barcodes.dat")).unwrap();
     let marks = read_landmarks(open("Landmark_Groundtruth.dat")).unwrap();
     assert_eq!(marks.len(), 15);
-    let table = LandmarkTable::new(marks.iter().map(|m| Landmark { id: m.subject, x: m.x as f32, y: m.y as f32 }).collect()).unwrap();
+    let table = LandmarkTable::new(
+        marks
+            .iter()
+            .map(|m| Landmark {
+                id: m.subject,
+                x: m.x as f32,
+                y: m.y as f32,
+            })
+            .collect(),
+    )
+    .unwrap();
     let odo = read_odometry(open("Robot1_Odometry.dat")).unwrap();
     let meas = read_measurements(open("Robot1_Measurement.dat"), &codes).unwrap();
     let truth = read_groundtruth(open("Robot1_Groundtruth.dat")).unwrap();

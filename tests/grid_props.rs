@@ -1,6 +1,8 @@
 //! Property tests of the grid against brute-force reference implementations
 //! written straight from paper 000's formulas, and its invariants.
 
+#![allow(clippy::needless_range_loop)] // index loops mirror the formulas
+
 use lplace::grid::dilate::{dilate_line, Profile};
 use lplace::grid::{Combine, ElementShape, FuzzyGrid, GridConfig, Trapezoid};
 use proptest::prelude::*;
@@ -30,7 +32,13 @@ fn prof(u: f32, core: f32, flank: f32) -> f32 {
 }
 
 fn raw_cfg(element: ElementShape) -> GridConfig {
-    GridConfig { normalize: false, flush_below: 0.0, floor: 0.0, element, ..GridConfig::default() }
+    GridConfig {
+        normalize: false,
+        flush_below: 0.0,
+        floor: 0.0,
+        element,
+        ..GridConfig::default()
+    }
 }
 
 fn grid_with(cfg: GridConfig, nx: usize, ny: usize, vals: &[f32]) -> FuzzyGrid {

@@ -58,7 +58,12 @@ impl Region {
     fn check(&self, index: usize) -> Result<[f32; 4], GridError> {
         let bad = |reason| GridError::BadRegion { index, reason };
         match *self {
-            Region::Box { x_min, y_min, x_max, y_max } => {
+            Region::Box {
+                x_min,
+                y_min,
+                x_max,
+                y_max,
+            } => {
                 if ![x_min, y_min, x_max, y_max].iter().all(|v| v.is_finite()) {
                     return Err(bad("non-finite coordinate"));
                 }
@@ -82,7 +87,12 @@ impl Region {
     /// Does the region contain the point?
     pub fn contains(&self, px: f32, py: f32) -> bool {
         match *self {
-            Region::Box { x_min, y_min, x_max, y_max } => px >= x_min && px <= x_max && py >= y_min && py <= y_max,
+            Region::Box {
+                x_min,
+                y_min,
+                x_max,
+                y_max,
+            } => px >= x_min && px <= x_max && py >= y_min && py <= y_max,
             Region::Disc { x, y, r } => (px - x) * (px - x) + (py - y) * (py - y) <= r * r,
         }
     }
@@ -93,12 +103,18 @@ impl FuzzyGrid {
     /// Values must be in [0, 1]; on any error the grid is left unchanged.
     pub fn cap_places(&mut self, regions: &[(Region, f32)], outside: f32) -> Result<(), GridError> {
         if !(0.0..=1.0).contains(&outside) {
-            return Err(GridError::BadRegion { index: regions.len(), reason: "outside value not in [0, 1]" });
+            return Err(GridError::BadRegion {
+                index: regions.len(),
+                reason: "outside value not in [0, 1]",
+            });
         }
         for (k, (r, v)) in regions.iter().enumerate() {
             r.check(k)?;
             if !(0.0..=1.0).contains(v) {
-                return Err(GridError::BadRegion { index: k, reason: "possibility not in [0, 1]" });
+                return Err(GridError::BadRegion {
+                    index: k,
+                    reason: "possibility not in [0, 1]",
+                });
             }
         }
         // -1 marks "in no region yet".

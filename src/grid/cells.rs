@@ -60,12 +60,19 @@ impl FuzzyGrid {
         cfg.validate()?;
         let [x_min, y_min, x_max, y_max] = bounds;
         if bounds.iter().any(|v| !v.is_finite()) || x_max <= x_min || y_max <= y_min {
-            return Err(GridError::BadConfig { field: "bounds", reason: "need finite x_min < x_max, y_min < y_max" });
+            return Err(GridError::BadConfig {
+                field: "bounds",
+                reason: "need finite x_min < x_max, y_min < y_max",
+            });
         }
         let nxf = ((x_max - x_min) / cfg.cell_size - 1e-4).ceil().max(1.0);
         let nyf = ((y_max - y_min) / cfg.cell_size - 1e-4).ceil().max(1.0);
         if nxf * nyf > MAX_CELLS as f32 {
-            return Err(GridError::TooLarge { nx: nxf as usize, ny: nyf as usize, limit: MAX_CELLS });
+            return Err(GridError::TooLarge {
+                nx: nxf as usize,
+                ny: nyf as usize,
+                limit: MAX_CELLS,
+            });
         }
         let (nx, ny) = (nxf as usize, nyf as usize);
         let n = nx * ny;
@@ -141,7 +148,10 @@ impl FuzzyGrid {
     /// Centre of cell `(col, row)` in metres.
     #[inline]
     pub fn cell_center(&self, col: usize, row: usize) -> (f32, f32) {
-        (self.x0 + (col as f32 + 0.5) * self.cell, self.y0 + (row as f32 + 0.5) * self.cell)
+        (
+            self.x0 + (col as f32 + 0.5) * self.cell,
+            self.y0 + (row as f32 + 0.5) * self.cell,
+        )
     }
     /// The cell containing a metric point, if inside the grid.
     pub fn cell_of(&self, x: f32, y: f32) -> Option<(usize, usize)> {
@@ -165,7 +175,13 @@ impl FuzzyGrid {
     pub fn heading_set(&self, col: usize, row: usize) -> Option<Trapezoid> {
         if col < self.nx && row < self.ny {
             let i = row * self.nx + col;
-            Some(Trapezoid::new(self.theta[i], self.delta[i], self.alpha[i], self.h[i], self.bias[i]))
+            Some(Trapezoid::new(
+                self.theta[i],
+                self.delta[i],
+                self.alpha[i],
+                self.h[i],
+                self.bias[i],
+            ))
         } else {
             None
         }
@@ -189,8 +205,8 @@ impl FuzzyGrid {
         let flush = self.cfg.flush_below;
         let mut max = 0.0f32;
         for v in self.h.iter_mut() {
-            // `!(x >= flush)` also catches NaN written through possibilities_mut.
-            if !(*v >= flush) {
+            // NaN (possible through possibilities_mut) is flushed too.
+            if v.is_nan() || *v < flush {
                 *v = 0.0;
             }
             if *v > 1.0 {
@@ -206,7 +222,11 @@ impl FuzzyGrid {
             self.last_height = 0.0;
             return 0.0;
         }
-        let k = if self.cfg.normalize && max < 1.0 { 1.0 / max } else { 1.0 };
+        let k = if self.cfg.normalize && max < 1.0 {
+            1.0 / max
+        } else {
+            1.0
+        };
         let floor = self.cfg.floor;
         if k != 1.0 || floor > 0.0 {
             for (i, v) in self.h.iter_mut().enumerate() {

@@ -64,10 +64,16 @@ impl SensorModel {
     fn validate(&self, which: &'static str) -> Result<(), GridError> {
         let vals = [self.core_abs, self.core_rel, self.slope_abs, self.slope_rel];
         if vals.iter().any(|v| !v.is_finite() || *v < 0.0) {
-            return Err(GridError::BadConfig { field: which, reason: "widths must be finite and ≥ 0" });
+            return Err(GridError::BadConfig {
+                field: which,
+                reason: "widths must be finite and ≥ 0",
+            });
         }
         if !(0.0..=1.0).contains(&self.bias) {
-            return Err(GridError::BadConfig { field: which, reason: "bias must be in [0, 1]" });
+            return Err(GridError::BadConfig {
+                field: which,
+                reason: "bias must be in [0, 1]",
+            });
         }
         Ok(())
     }
@@ -153,8 +159,20 @@ impl Default for GridConfig {
             cell_size: 0.1,
             margin: 1.5,
             bounds: None,
-            range: SensorModel { core_abs: 0.1, core_rel: 0.05, slope_abs: 0.2, slope_rel: 0.15, bias: 0.1 },
-            bearing: SensorModel { core_abs: 0.06, core_rel: 0.0, slope_abs: 0.1, slope_rel: 0.0, bias: 0.1 },
+            range: SensorModel {
+                core_abs: 0.1,
+                core_rel: 0.05,
+                slope_abs: 0.2,
+                slope_rel: 0.15,
+                bias: 0.1,
+            },
+            bearing: SensorModel {
+                core_abs: 0.06,
+                core_rel: 0.0,
+                slope_abs: 0.1,
+                slope_rel: 0.0,
+                bias: 0.1,
+            },
             combine: Combine::Product,
             normalize: true,
             element: ElementShape::Octagon,
@@ -193,7 +211,10 @@ impl GridConfig {
         let nonneg = |v: f32| v.is_finite() && v >= 0.0;
         let unit = |v: f32| (0.0..=1.0).contains(&v);
         if !pos(self.cell_size) {
-            return Err(GridError::BadConfig { field: "cell_size", reason: "must be finite and > 0" });
+            return Err(GridError::BadConfig {
+                field: "cell_size",
+                reason: "must be finite and > 0",
+            });
         }
         for (field, v) in [
             ("margin", self.margin),
@@ -206,7 +227,10 @@ impl GridConfig {
             ("flush_below", self.flush_below),
         ] {
             if !nonneg(v) {
-                return Err(GridError::BadConfig { field, reason: "must be finite and ≥ 0" });
+                return Err(GridError::BadConfig {
+                    field,
+                    reason: "must be finite and ≥ 0",
+                });
             }
         }
         for (field, v) in [
@@ -217,15 +241,24 @@ impl GridConfig {
             ("fix_reliability", self.fix_reliability),
         ] {
             if !unit(v) {
-                return Err(GridError::BadConfig { field, reason: "must be in [0, 1]" });
+                return Err(GridError::BadConfig {
+                    field,
+                    reason: "must be in [0, 1]",
+                });
             }
         }
         if !pos(self.reliability_area) {
-            return Err(GridError::BadConfig { field: "reliability_area", reason: "must be finite and > 0" });
+            return Err(GridError::BadConfig {
+                field: "reliability_area",
+                reason: "must be finite and > 0",
+            });
         }
         if let Some(b) = self.bounds {
             if b.iter().any(|v| !v.is_finite()) || b[2] <= b[0] || b[3] <= b[1] {
-                return Err(GridError::BadConfig { field: "bounds", reason: "need finite x_min < x_max, y_min < y_max" });
+                return Err(GridError::BadConfig {
+                    field: "bounds",
+                    reason: "need finite x_min < x_max, y_min < y_max",
+                });
             }
         }
         self.range.validate("range")?;

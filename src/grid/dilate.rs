@@ -134,17 +134,25 @@ pub fn dilate_line(g: &[f32], out: &mut [f32], p: Profile, deque: &mut [u32]) {
         return;
     }
     let inv = if p.flank > 0.0 { 1.0 / p.flank } else { STEEP };
-    sweep(g, out, n, p.core, inv, deque, false);
-    sweep(g, out, n, p.core, inv, deque, true);
+    sweep::<false>(g, out, n, p.core, inv, deque);
+    sweep::<true>(g, out, n, p.core, inv, deque);
 }
 
+/// One sweep; `REV` runs right to left and max-combines into `out`. The
+/// deque keeps (position, value) pairs so the hot loop reads no index twice.
 #[inline(always)]
-fn sweep(g: &[f32], out: &mut [f32], n: usize, core: f32, inv: f32, dq: &mut [u32], rev: bool) {
-    // Positions are counted along the sweep (k); `at` maps them to indices.
-    let at = |k: usize| if rev { n - 1 - k } else { k };
+fn sweep<const REV: bool>(
+    g: &[f32],
+    out: &mut [f32],
+    n: usize,
+    core: f32,
+    inv: f32,
+    dq: &mut [u32],
+) {
+    let at = |k: usize| if REV { n - 1 - k } else { k };
     let line = |y: usize, x: usize| 1.0 - ((x - y) as f32 - core).max(0.0) * inv;
     let (mut head, mut tail) = (0usize, 0usize); // deque = dq[head..tail]
-    let mut last_expired: Option<usize> = None;
+    let mut last_expired = usize::MAX;
     for x in 0..n {
         let gx = g[at(x)];
         while tail > head && g[at(dq[tail - 1] as usize)] <= gx {
@@ -155,18 +163,22 @@ fn sweep(g: &[f32], out: &mut [f32], n: usize, core: f32, inv: f32, dq: &mut [u3
         while tail > head {
             let y = dq[head] as usize;
             if line(y, x) <= g[at(y)] {
-                last_expired = Some(y);
+                last_expired = y;
                 head += 1;
             } else {
                 break;
             }
         }
-        let mut v = if tail > head { g[at(dq[head] as usize)] } else { 0.0 };
-        if let Some(y) = last_expired {
-            v = v.max(line(y, x));
+        let mut v = if tail > head {
+            g[at(dq[head] as usize)]
+        } else {
+            0.0
+        };
+        if last_expired != usize::MAX {
+            v = v.max(line(last_expired, x));
         }
         let o = &mut out[at(x)];
-        *o = if rev { o.max(v) } else { v.max(0.0) };
+        *o = if REV { o.max(v) } else { v.max(0.0) };
     }
 }
 
@@ -181,7 +193,13 @@ impl FuzzyGrid {
     /// Dilation with different radii along x and y (the diagonal passes use
     /// their mean): the odometry-shaped element of [`crate::grid::predict`].
     pub fn dilate_xy(&mut self, core: [f32; 2], flank: [f32; 2]) {
-        let clean = |v: f32| if v.is_finite() { v.max(0.0) / self.cell } else { 0.0 };
+        let clean = |v: f32| {
+            if v.is_finite() {
+                v.max(0.0) / self.cell
+            } else {
+                0.0
+            }
+        };
         let (cx, cy) = (clean(core[0]), clean(core[1]));
         let (fx, fy) = (clean(flank[0]), clean(flank[1]));
         // Clamp the plane first: the passes assume values in [0, 1].
@@ -192,9 +210,18 @@ impl FuzzyGrid {
             ElementShape::Octagon => (1.0 / (1.0 + SQRT_2), true),
             ElementShape::Square => (1.0, false),
         };
-        let px = Profile { core: cx * k, flank: fx * k };
-        let py = Profile { core: cy * k, flank: fy * k };
-        let pd = Profile { core: 0.5 * (px.core + py.core) / SQRT_2, flank: 0.5 * (px.flank + py.flank) / SQRT_2 };
+        let px = Profile {
+            core: cx * k,
+            flank: fx * k,
+        };
+        let py = Profile {
+            core: cy * k,
+            flank: fy * k,
+        };
+        let pd = Profile {
+            core: 0.5 * (px.core + py.core) / SQRT_2,
+            flank: 0.5 * (px.flank + py.flank) / SQRT_2,
+        };
         let (nx, ny) = (self.nx, self.ny);
         if !px.is_identity() {
             self.pass(px, (0..ny).map(|j| (j * nx, 1usize, nx)));
@@ -204,7 +231,9 @@ impl FuzzyGrid {
         }
         if diag && !pd.is_identity() {
             // Diagonals (+1, +1): start on the bottom row, then the left column.
-            let starts = (0..nx).map(|i| (i, nx + 1, (nx - i).min(ny))).chain((1..ny).map(|j| (j * nx, nx + 1, (ny - j).min(nx))));
+            let starts = (0..nx)
+                .map(|i| (i, nx + 1, (nx - i).min(ny)))
+                .chain((1..ny).map(|j| (j * nx, nx + 1, (ny - j).min(nx))));
             self.pass(pd, starts);
             // Anti-diagonals (−1, +1): start on the bottom row, then the right column.
             let starts = (0..nx)
@@ -228,7 +257,12 @@ impl FuzzyGrid {
                 for k in 0..len {
                     self.line[k] = self.h[start + k * stride];
                 }
-                dilate_line(&self.line[..len], &mut self.line_out[..len], p, &mut self.deque);
+                dilate_line(
+                    &self.line[..len],
+                    &mut self.line_out[..len],
+                    p,
+                    &mut self.deque,
+                );
                 for k in 0..len {
                     self.h[start + k * stride] = self.line_out[k];
                 }
@@ -253,7 +287,11 @@ mod tests {
 
     fn brute(g: &[f32], p: Profile) -> Vec<f32> {
         (0..g.len())
-            .map(|x| (0..g.len()).map(|y| g[y].min(p.at(x as f32 - y as f32))).fold(0.0, f32::max))
+            .map(|x| {
+                (0..g.len())
+                    .map(|y| g[y].min(p.at(x as f32 - y as f32)))
+                    .fold(0.0, f32::max)
+            })
             .collect()
     }
 
@@ -261,11 +299,26 @@ mod tests {
     fn line_matches_brute_force_on_fixed_cases() {
         let g = [0.1, 0.9, 0.2, 0.0, 0.7, 0.7, 0.3, 1.0, 0.0, 0.05, 0.5];
         for p in [
-            Profile { core: 0.0, flank: 0.0 },
-            Profile { core: 0.0, flank: 3.0 },
-            Profile { core: 1.5, flank: 0.0 },
-            Profile { core: 1.0, flank: 2.5 },
-            Profile { core: 20.0, flank: 20.0 },
+            Profile {
+                core: 0.0,
+                flank: 0.0,
+            },
+            Profile {
+                core: 0.0,
+                flank: 3.0,
+            },
+            Profile {
+                core: 1.5,
+                flank: 0.0,
+            },
+            Profile {
+                core: 1.0,
+                flank: 2.5,
+            },
+            Profile {
+                core: 20.0,
+                flank: 20.0,
+            },
         ] {
             let mut out = vec![0.0; g.len()];
             let mut dq = vec![0u32; g.len()];

@@ -4,10 +4,10 @@
 //!   `cog_cut · h_max`, weighted by possibility. Cutting first keeps the long
 //!   low tail of a product-updated grid from pulling the estimate towards the
 //!   middle of the map.
-//! * Heading: circular mean of the same cells' heading-set centres, weighted
-//!   by `h · (1 − b)` (a cell that thinks its heading may be anywhere says
-//!   little); its mean resultant length `R̄ ∈ [0, 1]` is the heading
-//!   reliability.
+//! * Heading: circular mean of the heading-set centres of the *top region*
+//!   (below), weighted by `h · (1 − b)` (a cell that thinks its heading may be
+//!   anywhere says little); its mean resultant length `R̄ ∈ [0, 1]`
+//!   (resultant over `Σ h`) is the heading reliability.
 //! * Reliability: the *top region* is the set of cells with
 //!   `h ≥ top_cut · h_max`, of area `A_top`; the reliability is
 //!   `h_max · A_ref / (A_ref + A_top)` with `A_ref = reliability_area`. A
@@ -58,35 +58,51 @@ impl FuzzyGrid {
     /// is of the belief as last updated); use [`FuzzyGrid::apply_pending`]
     /// first if the prediction should be included.
     pub fn estimate(&self) -> Estimate {
-        let max = self.h.iter().fold(0.0f32, |m, &v| if v > m { v } else { m });
+        let max = self
+            .h
+            .iter()
+            .fold(0.0f32, |m, &v| if v > m { v } else { m });
         if max <= 0.0 {
             let (cx, cy) = self.cell_center(self.nx / 2, self.ny / 2);
-            return Estimate { x: cx, y: cy, theta: 0.0, reliability: 0.0, heading_reliability: 0.0, top_area: 0.0, height: 0.0 };
+            return Estimate {
+                x: cx,
+                y: cy,
+                theta: 0.0,
+                reliability: 0.0,
+                heading_reliability: 0.0,
+                top_area: 0.0,
+                height: 0.0,
+            };
         }
         let cut = self.cfg.cog_cut * max;
         let top = self.cfg.top_cut * max;
+        let mut hw_max = 0.0f64;
         let (mut sw, mut sx, mut sy, mut sc, mut ss) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
         let mut n_top = 0usize;
         for j in 0..self.ny {
             let base = j * self.nx;
             let row = &self.h[base..base + self.nx];
-            let (mut rw, mut rx) = (0.0f32, 0.0f32);
+            // Branch-free sums so that the loop vectorises.
+            let (mut rw, mut rx, mut rt) = (0.0f32, 0.0f32, 0u32);
             for (c, &v) in row.iter().enumerate() {
-                if v >= cut {
-                    rw += v;
-                    rx += v * c as f32;
-                    let i = base + c;
-                    let wh = v * (1.0 - self.bias[i]);
-                    if wh > 0.0 {
+                let w = if v >= cut { v } else { 0.0 };
+                rw += w;
+                rx += w * c as f32;
+                rt += (v >= top) as u32;
+            }
+            if rt > 0 {
+                for (c, &v) in row.iter().enumerate() {
+                    if v >= top {
+                        let i = base + c;
+                        let wh = v * (1.0 - self.bias[i]);
                         let (s, co) = self.theta[i].sin_cos();
                         sc += (wh * co) as f64;
                         ss += (wh * s) as f64;
-                    }
-                    if v >= top {
-                        n_top += 1;
+                        hw_max += v as f64;
                     }
                 }
             }
+            n_top += rt as usize;
             sw += rw as f64;
             sx += rx as f64;
             sy += rw as f64 * j as f64;
@@ -96,7 +112,11 @@ impl FuzzyGrid {
         let y = self.y0 as f64 + (sy / sw + 0.5) * s;
         let hw: f64 = sc.hypot(ss);
         // Normalise the resultant by the weight it could have had at most.
-        let heading_reliability = if sw > 0.0 { (hw / sw).clamp(0.0, 1.0) } else { 0.0 };
+        let heading_reliability = if hw_max > 0.0 {
+            (hw / hw_max).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         let theta = if hw > 0.0 { ss.atan2(sc) as f32 } else { 0.0 };
         let top_area = n_top as f32 * self.cell * self.cell;
         let a = self.cfg.reliability_area;

@@ -59,7 +59,11 @@ impl LandmarkTable {
         for m in &marks {
             for (what, v) in [("landmark x", m.x), ("landmark y", m.y)] {
                 if !v.is_finite() {
-                    return Err(GridError::NonFinite { what, landmark: m.id, value: v });
+                    return Err(GridError::NonFinite {
+                        what,
+                        landmark: m.id,
+                        value: v,
+                    });
                 }
             }
         }
@@ -70,7 +74,10 @@ impl LandmarkTable {
     }
     /// The landmark with this id.
     pub fn get(&self, id: u32) -> Option<&Landmark> {
-        self.marks.binary_search_by_key(&id, |m| m.id).ok().map(|i| &self.marks[i])
+        self.marks
+            .binary_search_by_key(&id, |m| m.id)
+            .ok()
+            .map(|i| &self.marks[i])
     }
     /// All landmarks, sorted by id.
     pub fn landmarks(&self) -> &[Landmark] {
@@ -104,7 +111,11 @@ pub struct Observation {
 pub fn fast_atan2(y: f32, x: f32) -> f32 {
     let ax = x.abs();
     let ay = y.abs();
-    let (num, den, swap) = if ay > ax { (ax, ay, true) } else { (ay, ax, false) };
+    let (num, den, swap) = if ay > ax {
+        (ax, ay, true)
+    } else {
+        (ay, ax, false)
+    };
     if den == 0.0 {
         return 0.0;
     }
@@ -112,7 +123,9 @@ pub fn fast_atan2(y: f32, x: f32) -> f32 {
     let z2 = z * z;
     let mut a = z
         * (0.999_977_3
-            + z2 * (-0.332_623_5 + z2 * (0.193_543_5 + z2 * (-0.116_432_9 + z2 * (0.052_653_3 + z2 * -0.011_721_2)))));
+            + z2 * (-0.332_623_5
+                + z2 * (0.193_543_5
+                    + z2 * (-0.116_432_9 + z2 * (0.052_653_3 + z2 * -0.011_721_2)))));
     if swap {
         a = FRAC_PI_2 - a;
     }
@@ -127,24 +140,47 @@ pub fn fast_atan2(y: f32, x: f32) -> f32 {
 }
 
 impl FuzzyGrid {
-    fn check_obs(landmark: (f32, f32), range: Option<f32>, bearing: Option<f32>) -> Result<(), GridError> {
+    fn check_obs(
+        landmark: (f32, f32),
+        range: Option<f32>,
+        bearing: Option<f32>,
+    ) -> Result<(), GridError> {
         if !landmark.0.is_finite() {
-            return Err(GridError::NonFinite { what: "landmark x", landmark: 0, value: landmark.0 });
+            return Err(GridError::NonFinite {
+                what: "landmark x",
+                landmark: 0,
+                value: landmark.0,
+            });
         }
         if !landmark.1.is_finite() {
-            return Err(GridError::NonFinite { what: "landmark y", landmark: 0, value: landmark.1 });
+            return Err(GridError::NonFinite {
+                what: "landmark y",
+                landmark: 0,
+                value: landmark.1,
+            });
         }
         if let Some(r) = range {
             if !r.is_finite() {
-                return Err(GridError::NonFinite { what: "range", landmark: 0, value: r });
+                return Err(GridError::NonFinite {
+                    what: "range",
+                    landmark: 0,
+                    value: r,
+                });
             }
             if r < 0.0 {
-                return Err(GridError::NegativeRange { landmark: 0, range: r });
+                return Err(GridError::NegativeRange {
+                    landmark: 0,
+                    range: r,
+                });
             }
         }
         if let Some(b) = bearing {
             if !b.is_finite() {
-                return Err(GridError::NonFinite { what: "bearing", landmark: 0, value: b });
+                return Err(GridError::NonFinite {
+                    what: "bearing",
+                    landmark: 0,
+                    value: b,
+                });
             }
         }
         Ok(())
@@ -170,7 +206,13 @@ impl FuzzyGrid {
 
     /// Updates with range and bearing of the same sighting; the two factors are
     /// independent and multiply before the combination with the plane.
-    pub fn update_range_bearing(&mut self, lx: f32, ly: f32, r: f32, bearing: f32) -> Result<f32, GridError> {
+    pub fn update_range_bearing(
+        &mut self,
+        lx: f32,
+        ly: f32,
+        r: f32,
+        bearing: f32,
+    ) -> Result<f32, GridError> {
         Self::check_obs((lx, ly), Some(r), Some(bearing))?;
         self.apply_pending();
         self.bearing_pass(lx, ly, Some(r), bearing);
@@ -179,10 +221,19 @@ impl FuzzyGrid {
 
     /// Updates with an [`Observation`] of a landmark from `table`.
     pub fn observe(&mut self, table: &LandmarkTable, obs: &Observation) -> Result<f32, GridError> {
-        let m = table.get(obs.landmark).ok_or(GridError::UnknownLandmark(obs.landmark))?;
+        let m = table
+            .get(obs.landmark)
+            .ok_or(GridError::UnknownLandmark(obs.landmark))?;
         let tag = |e: GridError| match e {
-            GridError::NonFinite { what, value, .. } => GridError::NonFinite { what, landmark: obs.landmark, value },
-            GridError::NegativeRange { range, .. } => GridError::NegativeRange { landmark: obs.landmark, range },
+            GridError::NonFinite { what, value, .. } => GridError::NonFinite {
+                what,
+                landmark: obs.landmark,
+                value,
+            },
+            GridError::NegativeRange { range, .. } => GridError::NegativeRange {
+                landmark: obs.landmark,
+                range,
+            },
             other => other,
         };
         match (obs.range, obs.bearing) {
@@ -218,12 +269,14 @@ impl FuzzyGrid {
             let ox = (r_out * r_out - dy * dy).max(0.0).sqrt();
             let c_lo = ((col_of(lx - ox).floor() as isize) - 1).clamp(0, nx) as usize;
             let c_hi = ((col_of(lx + ox).ceil() as isize) + 2).clamp(0, nx) as usize; // exclusive
-            // The hole of the annulus (cells certainly closer than r_in).
+                                                                                      // The hole of the annulus (cells certainly closer than r_in).
             let (mut h_lo, mut h_hi) = (c_lo, c_lo);
             if dy.abs() < r_in {
                 let ix = (r_in * r_in - dy * dy).max(0.0).sqrt();
-                let a = ((col_of(lx - ix).ceil() as isize) + 1).clamp(c_lo as isize, c_hi as isize) as usize;
-                let b = (col_of(lx + ix).floor() as isize).clamp(a as isize, c_hi as isize) as usize;
+                let a = ((col_of(lx - ix).ceil() as isize) + 1).clamp(c_lo as isize, c_hi as isize)
+                    as usize;
+                let b =
+                    (col_of(lx + ix).floor() as isize).clamp(a as isize, c_hi as isize) as usize;
                 (h_lo, h_hi) = (a, b);
             }
             outside(&mut row[..c_lo]);
@@ -284,8 +337,8 @@ impl FuzzyGrid {
                     height: 1.0,
                     bias: self.bias[i],
                 };
-                f *= a.consistency(&o);
-                let n = a.intersect_angle(&o);
+                let (n, cons) = a.intersect_with_consistency(&o);
+                f *= cons;
                 self.theta[i] = n.center;
                 self.delta[i] = n.core;
                 self.alpha[i] = n.slope;

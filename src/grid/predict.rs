@@ -84,8 +84,17 @@ impl FuzzyGrid {
     /// Accumulates an odometry increment. Rejects non-finite values and
     /// negative `dt` without changing anything.
     pub fn predict(&mut self, m: &Motion) -> Result<(), GridError> {
-        if ![m.forward, m.lateral, m.turn, m.dt].iter().all(|v| v.is_finite()) || m.dt < 0.0 {
-            return Err(GridError::BadMotion { forward: m.forward, lateral: m.lateral, turn: m.turn, dt: m.dt });
+        if ![m.forward, m.lateral, m.turn, m.dt]
+            .iter()
+            .all(|v| v.is_finite())
+            || m.dt < 0.0
+        {
+            return Err(GridError::BadMotion {
+                forward: m.forward,
+                lateral: m.lateral,
+                turn: m.turn,
+                dt: m.dt,
+            });
         }
         let p = &mut self.pending;
         let (s, c) = p.turn.sin_cos();
@@ -107,8 +116,12 @@ impl FuzzyGrid {
             return;
         }
         let cfg = &self.cfg;
-        let (core_k, flank_k, flank_t, undirected) =
-            (cfg.core_per_metre, cfg.flank_per_metre, cfg.flank_per_second, cfg.undirected_per_metre);
+        let (core_k, flank_k, flank_t, undirected) = (
+            cfg.core_per_metre,
+            cfg.flank_per_metre,
+            cfg.flank_per_second,
+            cfg.undirected_per_metre,
+        );
         let widen = cfg.delta_per_radian * p.turned + cfg.delta_per_second * p.dt;
         let min_rel = cfg.directed_min_reliability;
         let est = self.estimate();
@@ -148,7 +161,13 @@ impl FuzzyGrid {
             core = [0.0; 2];
             flank = [0.0; 2];
         }
-        self.pending = Pending { rx, ry, core, flank, ..Pending::default() };
+        self.pending = Pending {
+            rx,
+            ry,
+            core,
+            flank,
+            ..Pending::default()
+        };
     }
 
     fn turn_headings(&mut self, by: f32) {

@@ -84,7 +84,14 @@ pub struct RunOptions {
 
 impl Default for RunOptions {
     fn default() -> Self {
-        RunOptions { use_range: true, use_bearing: true, use_odometry: true, kidnap: None, recovery_radius: 0.45, recovery_hold: 10.0 }
+        RunOptions {
+            use_range: true,
+            use_bearing: true,
+            use_odometry: true,
+            kidnap: None,
+            recovery_radius: 0.45,
+            recovery_hold: 10.0,
+        }
     }
 }
 
@@ -127,9 +134,18 @@ impl AteStats {
         }
         e.sort_by(f64::total_cmp);
         let n = e.len();
-        let median = if n % 2 == 1 { e[n / 2] } else { 0.5 * (e[n / 2 - 1] + e[n / 2]) };
+        let median = if n % 2 == 1 {
+            e[n / 2]
+        } else {
+            0.5 * (e[n / 2 - 1] + e[n / 2])
+        };
         let rmse = (e.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
-        Some(AteStats { rmse, median, max: e[n - 1], count: n })
+        Some(AteStats {
+            rmse,
+            median,
+            max: e[n - 1],
+            count: n,
+        })
     }
 }
 
@@ -178,13 +194,21 @@ pub struct RunReport {
 }
 
 /// Runs the grid over `frames` (see the module docs).
-pub fn run<I>(table: &LandmarkTable, cfg: &GridConfig, frames: I, opts: &RunOptions) -> Result<RunReport, GridError>
+pub fn run<I>(
+    table: &LandmarkTable,
+    cfg: &GridConfig,
+    frames: I,
+    opts: &RunOptions,
+) -> Result<RunReport, GridError>
 where
     I: IntoIterator<Item = MetricFrame>,
 {
     let bounds = match cfg.bounds {
         Some(b) => b,
-        None => table.bounds(cfg.margin).ok_or(GridError::BadConfig { field: "bounds", reason: "no bounds and no landmarks" })?,
+        None => table.bounds(cfg.margin).ok_or(GridError::BadConfig {
+            field: "bounds",
+            reason: "no bounds and no landmarks",
+        })?,
     };
     let mut grid = FuzzyGrid::new(cfg.clone(), bounds)?;
     let mut out = Vec::new();
@@ -204,9 +228,19 @@ where
             }
         }
         let m = if opts.use_odometry {
-            Motion { forward: o.forward as f32, lateral: o.lateral as f32, turn: o.turn as f32, dt: o.dt as f32 }
+            Motion {
+                forward: o.forward as f32,
+                lateral: o.lateral as f32,
+                turn: o.turn as f32,
+                dt: o.dt as f32,
+            }
         } else {
-            Motion { forward: 0.0, lateral: 0.0, turn: 0.0, dt: o.dt as f32 }
+            Motion {
+                forward: 0.0,
+                lateral: 0.0,
+                turn: 0.0,
+                dt: o.dt as f32,
+            }
         };
         if grid.predict(&m).is_err() {
             rejected += 1;
@@ -228,12 +262,26 @@ where
         }
         grid.apply_pending();
         let e = grid.estimate();
-        let pose = Pose2 { x: e.x as f64, y: e.y as f64, theta: e.theta as f64 };
+        let pose = Pose2 {
+            x: e.x as f64,
+            y: e.y as f64,
+            theta: e.theta as f64,
+        };
         let error = f.truth.map(|tr| (tr.x - pose.x).hypot(tr.y - pose.y));
         if first_fix.is_none() && e.reliability >= cfg.fix_reliability {
-            first_fix = Some(FirstFix { after: f.t - t0, error });
+            first_fix = Some(FirstFix {
+                after: f.t - t0,
+                error,
+            });
         }
-        out.push(FrameEstimate { t: f.t, pose, reliability: e.reliability, heading_reliability: e.heading_reliability, truth: f.truth, error });
+        out.push(FrameEstimate {
+            t: f.t,
+            pose,
+            reliability: e.reliability,
+            heading_reliability: e.heading_reliability,
+            truth: f.truth,
+            error,
+        });
     }
     let fix_t = first_fix.map(|x| x.after + t_first.unwrap_or(0.0));
     let after_fix = |fe: &&FrameEstimate| fix_t.is_some_and(|t| fe.t >= t);
@@ -242,17 +290,37 @@ where
     let head: Vec<f64> = out
         .iter()
         .filter(after_fix)
-        .filter_map(|f| f.truth.map(|tr| super::wrap_pi((f.pose.theta - tr.theta) as f32) as f64))
+        .filter_map(|f| {
+            f.truth
+                .map(|tr| super::wrap_pi((f.pose.theta - tr.theta) as f32) as f64)
+        })
         .collect();
-    let heading_rmse = (!head.is_empty()).then(|| (head.iter().map(|v| v * v).sum::<f64>() / head.len() as f64).sqrt());
-    let recovery = opts.kidnap.map(|k| recovery_time(&out, k.time, opts.recovery_radius, opts.recovery_hold));
-    Ok(RunReport { frames: out, ate, ate_all, heading_rmse, first_fix, recovery, used, unknown, rejected })
+    let heading_rmse = (!head.is_empty())
+        .then(|| (head.iter().map(|v| v * v).sum::<f64>() / head.len() as f64).sqrt());
+    let recovery = opts
+        .kidnap
+        .map(|k| recovery_time(&out, k.time, opts.recovery_radius, opts.recovery_hold));
+    Ok(RunReport {
+        frames: out,
+        ate,
+        ate_all,
+        heading_rmse,
+        first_fix,
+        recovery,
+        used,
+        unknown,
+        rejected,
+    })
 }
 
 /// First time `t ≥ since` from which every frame with truth within
 /// `[t, t + hold]` has an error ≤ `radius` (and the frames span the hold).
 pub fn recovery_time(frames: &[FrameEstimate], since: f64, radius: f64, hold: f64) -> Recovery {
-    let f: Vec<(f64, f64)> = frames.iter().filter(|f| f.t >= since).filter_map(|f| f.error.map(|e| (f.t, e))).collect();
+    let f: Vec<(f64, f64)> = frames
+        .iter()
+        .filter(|f| f.t >= since)
+        .filter_map(|f| f.error.map(|e| (f.t, e)))
+        .collect();
     // Scan backwards: `good_until` = time up to which the run of good frames
     // starting at the current index extends.
     let mut best = None;

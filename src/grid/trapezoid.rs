@@ -41,6 +41,16 @@ const TAU: f32 = 2.0 * PI;
 /// caller's validation sees it.
 #[inline]
 pub fn wrap_pi(a: f32) -> f32 {
+    // Most inputs are differences of wrapped angles: two compares beat fmod.
+    if a > -PI && a <= PI {
+        return a;
+    }
+    if a > PI && a <= 3.0 * PI {
+        return a - TAU;
+    }
+    if a <= -PI && a > -3.0 * PI {
+        return a + TAU;
+    }
     if !a.is_finite() {
         return a;
     }
@@ -73,7 +83,13 @@ impl Trapezoid {
     /// (non-finite widths become 0, non-finite height/bias become 0).
     pub fn new(center: f32, core: f32, slope: f32, height: f32, bias: f32) -> Self {
         let nn = |v: f32| if v.is_finite() { v.max(0.0) } else { 0.0 };
-        let unit = |v: f32| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 };
+        let unit = |v: f32| {
+            if v.is_finite() {
+                v.clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        };
         Trapezoid {
             center: if center.is_finite() { center } else { 0.0 },
             core: nn(core),
@@ -85,7 +101,13 @@ impl Trapezoid {
 
     /// Total ignorance about an angle: every heading fully possible.
     pub fn full_circle() -> Self {
-        Trapezoid { center: 0.0, core: TAU, slope: 0.0, height: 1.0, bias: 1.0 }
+        Trapezoid {
+            center: 0.0,
+            core: TAU,
+            slope: 0.0,
+            height: 1.0,
+            bias: 1.0,
+        }
     }
 
     /// Trapezoid part only (no bias) at a distance `u ≥ 0` from the centre.
@@ -123,7 +145,11 @@ impl Trapezoid {
     #[inline]
     fn half_width_at(&self, t: f32) -> f32 {
         let w = 0.5 * self.core
-            + if self.height > 0.0 { self.slope * (1.0 - t / self.height) } else { 0.0 };
+            + if self.height > 0.0 {
+                self.slope * (1.0 - t / self.height)
+            } else {
+                0.0
+            };
         if w >= PI {
             f32::INFINITY
         } else {
@@ -184,7 +210,21 @@ impl Trapezoid {
     pub fn consistency(&self, other: &Trapezoid) -> f32 {
         let t = self.overlap_level(other);
         let bb = self.bias.min(other.bias);
-        t.max(bb).max(self.bias.min(other.height)).max(self.height.min(other.bias))
+        t.max(bb)
+            .max(self.bias.min(other.height))
+            .max(self.height.min(other.bias))
+    }
+
+    /// [`Trapezoid::intersect_angle`] and [`Trapezoid::consistency`] at once,
+    /// sharing their common work (the grid calls both for every cell).
+    pub fn intersect_with_consistency(&self, other: &Trapezoid) -> (Trapezoid, f32) {
+        let d = wrap_pi(other.center - self.center);
+        let t = Self::overlap_level_at(self, other, d.abs());
+        let c = t
+            .max(self.bias.min(other.bias))
+            .max(self.bias.min(other.height))
+            .max(self.height.min(other.bias));
+        (self.intersect_at(other, d, t), c)
     }
 
     /// Paper 000's intersection of two angle sets (Fig. 4).
@@ -201,10 +241,14 @@ impl Trapezoid {
     ///   `max(h_A, h_B)`, and bias `1 − (1 − b_A)(1 − b_B)` — the paper only says
     ///   the bias must grow; the probabilistic sum is our reading of that.
     pub fn intersect_angle(&self, other: &Trapezoid) -> Trapezoid {
+        let d = wrap_pi(other.center - self.center); // B sits at d in A's frame
+        let t = Self::overlap_level_at(self, other, d.abs());
+        self.intersect_at(other, d, t)
+    }
+
+    fn intersect_at(&self, other: &Trapezoid, d: f32, t: f32) -> Trapezoid {
         let a = self;
         let b = other;
-        let d = wrap_pi(b.center - a.center); // B sits at d in A's frame
-        let t = Self::overlap_level_at(a, b, d.abs());
         if t > 0.0 {
             let bias = a.bias * b.bias;
             let (ca_lo, ca_hi) = interval(0.0, a.half_width_at(t));
@@ -216,7 +260,11 @@ impl Trapezoid {
             if !(core_hi - core_lo).is_finite() {
                 // Both cuts cover the circle: so does the intersection.
                 return Trapezoid::new(
-                    if a.is_full_circle() { b.center } else { a.center },
+                    if a.is_full_circle() {
+                        b.center
+                    } else {
+                        a.center
+                    },
                     TAU,
                     0.0,
                     t,
@@ -227,7 +275,13 @@ impl Trapezoid {
             let flank = (core_lo - sup_lo).min(sup_hi - core_hi).max(0.0);
             let flank = if flank.is_finite() { flank } else { TAU };
             let center = wrap_pi(a.center + 0.5 * (core_lo + core_hi));
-            Trapezoid::new(center, (core_hi - core_lo).min(TAU), flank.min(TAU), t, bias)
+            Trapezoid::new(
+                center,
+                (core_hi - core_lo).min(TAU),
+                flank.min(TAU),
+                t,
+                bias,
+            )
         } else {
             let bias = 1.0 - (1.0 - a.bias) * (1.0 - b.bias);
             let wa = 0.5 * a.core;

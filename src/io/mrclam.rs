@@ -86,11 +86,17 @@ pub enum LineProblem {
 impl std::fmt::Display for LineProblem {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            LineProblem::FieldCount { expected, found } => write!(f, "expected {expected} fields, found {found}"),
-            LineProblem::NotANumber { column, text } => write!(f, "column {column}: `{text}` is not a number"),
+            LineProblem::FieldCount { expected, found } => {
+                write!(f, "expected {expected} fields, found {found}")
+            }
+            LineProblem::NotANumber { column, text } => {
+                write!(f, "column {column}: `{text}` is not a number")
+            }
             LineProblem::NonFinite { column } => write!(f, "column {column}: not a finite number"),
             LineProblem::NegativeRange => write!(f, "negative range"),
-            LineProblem::TimeGoesBack { previous, time } => write!(f, "time {time} is before the previous row's {previous}"),
+            LineProblem::TimeGoesBack { previous, time } => {
+                write!(f, "time {time} is before the previous row's {previous}")
+            }
         }
     }
 }
@@ -253,7 +259,10 @@ pub struct MergeOptions {
 
 impl Default for MergeOptions {
     fn default() -> Self {
-        MergeOptions { max_frame_gap: 0.5, max_truth_gap: 1.0 }
+        MergeOptions {
+            max_frame_gap: 0.5,
+            max_truth_gap: 1.0,
+        }
     }
 }
 
@@ -281,13 +290,25 @@ fn for_rows<R: BufRead>(
             continue;
         }
         toks = text.split_whitespace().collect();
-        let bad = |problem| MrclamError::Malformed { file, line, problem };
+        let bad = |problem| MrclamError::Malformed {
+            file,
+            line,
+            problem,
+        };
         if toks.len() != cols {
-            return Err(bad(LineProblem::FieldCount { expected: cols, found: toks.len() }));
+            return Err(bad(LineProblem::FieldCount {
+                expected: cols,
+                found: toks.len(),
+            }));
         }
         nums.clear();
         for (k, t) in toks.iter().enumerate() {
-            let v: f64 = t.parse().map_err(|_| bad(LineProblem::NotANumber { column: k + 1, text: (*t).to_string() }))?;
+            let v: f64 = t.parse().map_err(|_| {
+                bad(LineProblem::NotANumber {
+                    column: k + 1,
+                    text: (*t).to_string(),
+                })
+            })?;
             if !v.is_finite() {
                 return Err(bad(LineProblem::NonFinite { column: k + 1 }));
             }
@@ -299,12 +320,18 @@ fn for_rows<R: BufRead>(
 
 /// Parses a field that must be a non-negative integer id.
 fn id(toks: &[&str], k: usize) -> Result<u32, LineProblem> {
-    toks[k].parse().map_err(|_| LineProblem::NotANumber { column: k + 1, text: toks[k].to_string() })
+    toks[k].parse().map_err(|_| LineProblem::NotANumber {
+        column: k + 1,
+        text: toks[k].to_string(),
+    })
 }
 
 fn monotone(prev: &mut f64, t: f64) -> Result<(), LineProblem> {
     if t < *prev {
-        return Err(LineProblem::TimeGoesBack { previous: *prev, time: t });
+        return Err(LineProblem::TimeGoesBack {
+            previous: *prev,
+            time: t,
+        });
     }
     *prev = t;
     Ok(())
@@ -325,7 +352,13 @@ pub fn read_barcodes<R: BufRead>(r: R) -> Result<Barcodes, MrclamError> {
 pub fn read_landmarks<R: BufRead>(r: R) -> Result<Vec<LandmarkTruth>, MrclamError> {
     let mut out = Vec::new();
     for_rows(r, FileKind::LandmarkGroundtruth, 5, |_, n, t| {
-        out.push(LandmarkTruth { subject: id(t, 0)?, x: n[1], y: n[2], x_std: n[3], y_std: n[4] });
+        out.push(LandmarkTruth {
+            subject: id(t, 0)?,
+            x: n[1],
+            y: n[2],
+            x_std: n[3],
+            y_std: n[4],
+        });
         Ok(())
     })?;
     Ok(out)
@@ -337,7 +370,11 @@ pub fn read_odometry<R: BufRead>(r: R) -> Result<Vec<OdometryRow>, MrclamError> 
     let mut prev = f64::NEG_INFINITY;
     for_rows(r, FileKind::Odometry, 3, |_, n, _| {
         monotone(&mut prev, n[0])?;
-        out.push(OdometryRow { t: n[0], v: n[1], w: n[2] });
+        out.push(OdometryRow {
+            t: n[0],
+            v: n[1],
+            w: n[2],
+        });
         Ok(())
     })?;
     Ok(out)
@@ -355,7 +392,12 @@ pub fn read_measurements<R: BufRead>(r: R, codes: &Barcodes) -> Result<Measureme
             return Err(LineProblem::NegativeRange);
         }
         match codes.subject_of.get(&barcode) {
-            Some(&subject) => m.rows.push(MeasurementRow { t: n[0], subject, range: n[2], bearing: n[3] }),
+            Some(&subject) => m.rows.push(MeasurementRow {
+                t: n[0],
+                subject,
+                range: n[2],
+                bearing: n[3],
+            }),
             None => {
                 m.misread += 1;
                 *m.misread_barcodes.entry(barcode).or_insert(0) += 1;
@@ -372,7 +414,12 @@ pub fn read_groundtruth<R: BufRead>(r: R) -> Result<Vec<TruthRow>, MrclamError> 
     let mut prev = f64::NEG_INFINITY;
     for_rows(r, FileKind::Groundtruth, 4, |_, n, _| {
         monotone(&mut prev, n[0])?;
-        out.push(TruthRow { t: n[0], x: n[1], y: n[2], theta: n[3] });
+        out.push(TruthRow {
+            t: n[0],
+            x: n[1],
+            y: n[2],
+            theta: n[3],
+        });
         Ok(())
     })?;
     Ok(out)
@@ -397,7 +444,11 @@ pub fn interpolate_truth(truth: &[TruthRow], t: f64, max_gap: f64) -> Option<Pos
     }
     let a = truth[k - 1];
     if a.t == t || k == truth.len() {
-        return (a.t == t).then_some(Pose2 { x: a.x, y: a.y, theta: wrap(a.theta) });
+        return (a.t == t).then_some(Pose2 {
+            x: a.x,
+            y: a.y,
+            theta: wrap(a.theta),
+        });
     }
     let b = truth[k];
     if b.t - a.t > max_gap {
@@ -436,12 +487,21 @@ fn integrate(p: &mut Pose2, v: f64, w: f64, dt: f64) {
 /// Each odometry row's `(v, ω)` holds until the next row (zero-order hold),
 /// and the motion between consecutive frames is integrated exactly for a
 /// unicycle. Measurements outside the odometry span are left out.
-pub fn merge(odometry: &[OdometryRow], meas: &[MeasurementRow], truth: &[TruthRow], opts: &MergeOptions) -> Vec<MetricFrame> {
+pub fn merge(
+    odometry: &[OdometryRow],
+    meas: &[MeasurementRow],
+    truth: &[TruthRow],
+    opts: &MergeOptions,
+) -> Vec<MetricFrame> {
     let (Some(first), Some(last)) = (odometry.first(), odometry.last()) else {
         return Vec::new();
     };
     let (t0, t1) = (first.t, last.t);
-    let gap = if opts.max_frame_gap > 0.0 && opts.max_frame_gap.is_finite() { opts.max_frame_gap } else { f64::INFINITY };
+    let gap = if opts.max_frame_gap > 0.0 && opts.max_frame_gap.is_finite() {
+        opts.max_frame_gap
+    } else {
+        f64::INFINITY
+    };
     // Frame times.
     let mut times = vec![t0];
     let mut mi = meas.partition_point(|m| m.t < t0);
@@ -474,7 +534,11 @@ pub fn merge(odometry: &[OdometryRow], meas: &[MeasurementRow], truth: &[TruthRo
             while oi + 1 < odometry.len() && odometry[oi + 1].t <= now {
                 oi += 1;
             }
-            let end = if oi + 1 < odometry.len() { odometry[oi + 1].t.min(t) } else { t };
+            let end = if oi + 1 < odometry.len() {
+                odometry[oi + 1].t.min(t)
+            } else {
+                t
+            };
             integrate(&mut p, odometry[oi].v, odometry[oi].w, end - now);
             now = end;
         }
@@ -483,13 +547,22 @@ pub fn merge(odometry: &[OdometryRow], meas: &[MeasurementRow], truth: &[TruthRo
         while mj < meas.len() && meas[mj].t <= t {
             if meas[mj].t == t {
                 let m = meas[mj];
-                observations.push(LandmarkReading { subject: m.subject, range: m.range, bearing: m.bearing });
+                observations.push(LandmarkReading {
+                    subject: m.subject,
+                    range: m.range,
+                    bearing: m.bearing,
+                });
             }
             mj += 1;
         }
         frames.push(MetricFrame {
             t,
-            odometry: OdometryIncrement { forward: p.x, lateral: p.y, turn: p.theta, dt },
+            odometry: OdometryIncrement {
+                forward: p.x,
+                lateral: p.y,
+                turn: p.theta,
+                dt,
+            },
             observations,
             truth: interpolate_truth(truth, t, opts.max_truth_gap),
         });

@@ -34,7 +34,9 @@ pub struct TumPose {
 #[derive(Debug, thiserror::Error)]
 pub enum TumError {
     /// A line without 8 numeric fields.
-    #[error("line {line}: expected 8 numbers, found {found} fields (first bad field: {bad_field:?})")]
+    #[error(
+        "line {line}: expected 8 numbers, found {found} fields (first bad field: {bad_field:?})"
+    )]
     Malformed {
         /// 1-based line.
         line: usize,
@@ -59,7 +61,11 @@ pub enum TumError {
 pub fn write_tum<W: Write>(mut w: W, poses: &[TumPose]) -> std::io::Result<()> {
     for p in poses {
         let (s, c) = (0.5 * p.yaw).sin_cos();
-        writeln!(w, "{:.6} {:.6} {:.6} 0 0 0 {:.9} {:.9}", p.t, p.x, p.y, s, c)?;
+        writeln!(
+            w,
+            "{:.6} {:.6} {:.6} 0 0 0 {:.9} {:.9}",
+            p.t, p.x, p.y, s, c
+        )?;
     }
     Ok(())
 }
@@ -69,7 +75,10 @@ pub fn read_tum<R: BufRead>(r: R) -> Result<Vec<TumPose>, TumError> {
     let mut out = Vec::new();
     for (k, line) in r.lines().enumerate() {
         let line_no = k + 1;
-        let text = line.map_err(|source| TumError::Read { line: line_no, source })?;
+        let text = line.map_err(|source| TumError::Read {
+            line: line_no,
+            source,
+        })?;
         let text = text.trim();
         if text.is_empty() || text.starts_with('#') {
             continue;
@@ -87,11 +96,20 @@ pub fn read_tum<R: BufRead>(r: R) -> Result<Vec<TumPose>, TumError> {
             }
         }
         if toks.len() != 8 || bad.is_some() {
-            return Err(TumError::Malformed { line: line_no, found: toks.len(), bad_field: bad });
+            return Err(TumError::Malformed {
+                line: line_no,
+                found: toks.len(),
+                bad_field: bad,
+            });
         }
         let (qx, qy, qz, qw) = (v[4], v[5], v[6], v[7]);
         let yaw = (2.0 * (qw * qz + qx * qy)).atan2(1.0 - 2.0 * (qy * qy + qz * qz));
-        out.push(TumPose { t: v[0], x: v[1], y: v[2], yaw });
+        out.push(TumPose {
+            t: v[0],
+            x: v[1],
+            y: v[2],
+            yaw,
+        });
     }
     Ok(out)
 }
