@@ -206,3 +206,95 @@ fn config_round_trips_through_ron_and_rejects_nonsense() {
     let shipped = include_str!("../config/grid-mrclam.ron");
     GridConfig::from_ron(shipped).unwrap();
 }
+
+/// A robot circling on the field with a ±0.6 rad camera; exact readings and
+/// odometry. At 30 s its odometry reports a 1 m sideways jump that did not
+/// happen (a kidnap seen from the estimator's side); it must come back within
+/// 0.45 m and stay there for 10 s, and before that it must track closely.
+#[test]
+fn robocup_field_tracks_and_recovers_from_a_kidnap() {
+    use lplace::grid::run::{run, Kidnap, Recovery, RunOptions};
+    use lplace::io::mrclam::{LandmarkReading, MetricFrame, OdometryIncrement, Pose2};
+    let (table, _) = field();
+    let (v, w, dt) = (0.1f64, 0.2f64, 0.5f64);
+    let pose = |t: f64| {
+        let phi = w * t;
+        Pose2 {
+            x: 1.0 + 0.5 * phi.cos(),
+            y: 1.5 + 0.5 * phi.sin(),
+            theta: (phi + std::f64::consts::FRAC_PI_2)
+                .sin()
+                .atan2((phi + std::f64::consts::FRAC_PI_2).cos()),
+        }
+    };
+    let frames: Vec<MetricFrame> = (0..160)
+        .map(|k| {
+            let t = k as f64 * dt;
+            let p = pose(t);
+            let observations = table
+                .landmarks()
+                .iter()
+                .filter_map(|m| {
+                    let (dx, dy) = (m.x as f64 - p.x, m.y as f64 - p.y);
+                    let b = (dy.atan2(dx) - p.theta + std::f64::consts::PI)
+                        .rem_euclid(std::f64::consts::TAU)
+                        - std::f64::consts::PI;
+                    (b.abs() < 0.6).then_some(LandmarkReading {
+                        subject: m.id,
+                        range: dx.hypot(dy),
+                        bearing: b,
+                    })
+                })
+                .collect();
+            let odometry = if k == 0 {
+                OdometryIncrement::default()
+            } else {
+                OdometryIncrement {
+                    forward: v / w * (w * dt).sin(),
+                    lateral: v / w * (1.0 - (w * dt).cos()),
+                    turn: w * dt,
+                    dt,
+                }
+            };
+            MetricFrame {
+                t,
+                odometry,
+                observations,
+                truth: Some(p),
+            }
+        })
+        .collect();
+    let cfg = GridConfig::default();
+    let clean = run(&table, &cfg, frames.clone(), &RunOptions::default()).unwrap();
+    let ate = clean.ate.unwrap();
+    assert!(ate.rmse < 0.15, "{ate:?}");
+    // A fix needs two landmarks in the narrow field of view: a few frames.
+    assert!(
+        clean.first_fix.unwrap().after <= 3.0,
+        "{:?}",
+        clean.first_fix
+    );
+    let opts = RunOptions {
+        kidnap: Some(Kidnap {
+            time: 30.0,
+            forward: 0.0,
+            lateral: 1.0,
+            turn: 0.0,
+        }),
+        ..RunOptions::default()
+    };
+    let kid = run(&table, &cfg, frames, &opts).unwrap();
+    // The kidnap did throw the estimate off…
+    let worst_after = kid
+        .frames
+        .iter()
+        .filter(|f| f.t >= 30.0)
+        .filter_map(|f| f.error)
+        .fold(0.0, f64::max);
+    assert!(worst_after > 0.45, "kidnap had no effect: {worst_after}");
+    // …and the grid came back.
+    match kid.recovery.unwrap() {
+        Recovery::Recovered { after } => assert!(after < 15.0, "recovered only after {after} s"),
+        Recovery::NotRecovered => panic!("not recovered"),
+    }
+}
