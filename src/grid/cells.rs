@@ -203,17 +203,30 @@ impl FuzzyGrid {
     /// with zero biases) carries no information and restarts from ignorance.
     pub(crate) fn finish_update(&mut self) -> f32 {
         let flush = self.cfg.flush_below;
-        let mut max = 0.0f32;
-        for v in self.h.iter_mut() {
-            // NaN (possible through possibilities_mut) is flushed too.
-            if v.is_nan() || *v < flush {
-                *v = 0.0;
+        // Pass 1, branch-free so it vectorises: flush (NaN too), clamp, max.
+        let mut lanes = [0.0f32; 8];
+        let mut chunks = self.h.chunks_exact_mut(8);
+        for ch in &mut chunks {
+            for (l, v) in ch.iter_mut().enumerate() {
+                let x = if v.is_nan() || *v < flush {
+                    0.0
+                } else {
+                    v.min(1.0)
+                };
+                *v = x;
+                lanes[l] = lanes[l].max(x);
             }
-            if *v > 1.0 {
-                *v = 1.0;
-            }
-            max = max.max(*v);
         }
+        for v in chunks.into_remainder() {
+            let x = if v.is_nan() || *v < flush {
+                0.0
+            } else {
+                v.min(1.0)
+            };
+            *v = x;
+            lanes[0] = lanes[0].max(x);
+        }
+        let max = lanes.iter().fold(0.0f32, |a, &b| a.max(b));
         self.last_height = max;
         if max <= 0.0 {
             let pending = self.pending;
@@ -228,22 +241,34 @@ impl FuzzyGrid {
             1.0
         };
         let floor = self.cfg.floor;
-        if k != 1.0 || floor > 0.0 {
-            for (i, v) in self.h.iter_mut().enumerate() {
+        if floor > 0.0 {
+            // Pass 2: normalise and keep π(x, y, θ) = h · max(b, ramp) ≥ floor
+            // for every θ: cells under the floor rise to it with a full-circle
+            // heading (bias 1, Δ reset in pass 3), the others get b ≥ floor / h.
+            let mut lows = 0u32;
+            for (v, b) in self.h.iter_mut().zip(self.bias.iter_mut()) {
                 let n = (*v * k).min(1.0);
-                if n < floor {
-                    *v = floor;
-                    self.theta[i] = 0.0;
-                    self.delta[i] = 2.0 * PI;
-                    self.alpha[i] = 0.0;
-                    self.bias[i] = 1.0;
+                let low = n < floor;
+                *b = if low {
+                    1.0
+                } else if n * *b < floor {
+                    floor / n
                 } else {
-                    // Keep π(x, y, θ) = h · max(b, ramp(θ)) ≥ floor for every θ.
-                    if n * self.bias[i] < floor {
-                        self.bias[i] = floor / n;
+                    *b
+                };
+                *v = if low { floor } else { n };
+                lows += low as u32;
+            }
+            if lows > 0 {
+                for (i, &v) in self.h.iter().enumerate() {
+                    if v == floor && self.bias[i] == 1.0 {
+                        self.delta[i] = 2.0 * PI;
                     }
-                    *v = n;
                 }
+            }
+        } else if k != 1.0 {
+            for v in self.h.iter_mut() {
+                *v = (*v * k).min(1.0);
             }
         }
         max

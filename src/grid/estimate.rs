@@ -82,14 +82,29 @@ impl FuzzyGrid {
         for j in 0..self.ny {
             let base = j * self.nx;
             let row = &self.h[base..base + self.nx];
-            // Branch-free sums so that the loop vectorises.
-            let (mut rw, mut rx, mut rt) = (0.0f32, 0.0f32, 0u32);
-            for (c, &v) in row.iter().enumerate() {
-                let w = if v >= cut { v } else { 0.0 };
-                rw += w;
-                rx += w * c as f32;
-                rt += (v >= top) as u32;
+            // Branch-free sums in 8 lanes so that the loop vectorises (a
+            // single f32 accumulator forces sequential adds).
+            let (mut lw, mut lx, mut lt) = ([0.0f32; 8], [0.0f32; 8], [0u32; 8]);
+            let chunks = row.chunks_exact(8);
+            let rest = chunks.remainder();
+            for (k, ch) in chunks.enumerate() {
+                for (l, &v) in ch.iter().enumerate() {
+                    let w = if v >= cut { v } else { 0.0 };
+                    lw[l] += w;
+                    lx[l] += w * (k * 8 + l) as f32;
+                    lt[l] += (v >= top) as u32;
+                }
             }
+            let off = row.len() - rest.len();
+            for (l, &v) in rest.iter().enumerate() {
+                let w = if v >= cut { v } else { 0.0 };
+                lw[0] += w;
+                lx[0] += w * (off + l) as f32;
+                lt[0] += (v >= top) as u32;
+            }
+            let rw: f32 = lw.iter().sum();
+            let rx: f32 = lx.iter().sum();
+            let rt: u32 = lt.iter().sum();
             if rt > 0 {
                 for (c, &v) in row.iter().enumerate() {
                     if v >= top {
