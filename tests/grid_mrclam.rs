@@ -146,6 +146,14 @@ fn merge_integrates_odometry_and_interpolates_truth() {
 }
 
 #[test]
+fn a_corrupt_far_future_time_does_not_explode_the_stream() {
+    let odo = read_odometry("0.0 0.1 0.0\n1e12 0.1 0.0\n".as_bytes()).unwrap();
+    let f = merge(&odo, &[], &[], &MergeOptions::default());
+    assert!(f.len() < 10, "{} frames", f.len());
+    assert!(f.windows(2).all(|w| w[1].t > w[0].t));
+}
+
+#[test]
 fn tum_round_trip_and_errors() {
     let p = [
         TumPose {

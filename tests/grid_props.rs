@@ -239,3 +239,27 @@ fn nan_observations_are_rejected_and_leave_the_grid_alone() {
     assert!(g.update_range_bearing(0.0, 0.0, 1.0, f32::NAN).is_err());
     assert_eq!(before, g.possibilities());
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Wild but accepted inputs (huge, tiny, negative) never panic and keep
+    /// every value in [0, 1].
+    #[test]
+    fn wild_inputs_do_not_panic(lx in prop::num::f32::ANY, ly in prop::num::f32::ANY, r in prop::num::f32::ANY,
+                                 b in prop::num::f32::ANY, fwd in prop::num::f32::ANY, turn in prop::num::f32::ANY,
+                                 dt in prop::num::f32::ANY, core in prop::num::f32::ANY, flank in prop::num::f32::ANY) {
+        let mut g = FuzzyGrid::new(GridConfig::default(), [0.0, 0.0, 2.0, 3.0]).unwrap();
+        let _ = g.update_range(lx, ly, r);
+        let _ = g.update_range_bearing(lx, ly, r, b);
+        let _ = g.update_bearing(lx, ly, b);
+        let _ = g.predict(&lplace::grid::Motion { forward: fwd, lateral: -fwd, turn, dt });
+        g.apply_pending();
+        let _ = g.predict(&lplace::grid::Motion { forward: 1e30, lateral: -1e30, turn: 1e30, dt: 1e30 });
+        let _ = g.update_range(1.0, 1.0, 1.0);
+        g.dilate(core, flank);
+        let e = g.estimate();
+        prop_assert!(e.x.is_finite() && e.y.is_finite() && e.theta.is_finite());
+        prop_assert!(g.possibilities().iter().all(|v| (0.0..=1.0).contains(v)));
+    }
+}

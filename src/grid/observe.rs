@@ -139,6 +139,16 @@ pub fn fast_atan2(y: f32, x: f32) -> f32 {
     }
 }
 
+/// A float column bound clamped into `[lo, hi]` (NaN gives `lo`).
+#[inline]
+fn to_col(v: f32, lo: usize, hi: usize) -> usize {
+    if v.is_nan() {
+        lo
+    } else {
+        v.clamp(lo as f32, hi as f32) as usize
+    }
+}
+
 impl FuzzyGrid {
     fn check_obs(
         landmark: (f32, f32),
@@ -250,7 +260,6 @@ impl FuzzyGrid {
         let r_out = r + w;
         let r_in = (r - w).max(0.0);
         let s = self.cell;
-        let nx = self.nx as isize;
         let bias = t.bias;
         let combine = self.cfg.combine;
         let outside = |row: &mut [f32]| match combine {
@@ -267,16 +276,16 @@ impl FuzzyGrid {
                 continue;
             }
             let ox = (r_out * r_out - dy * dy).max(0.0).sqrt();
-            let c_lo = ((col_of(lx - ox).floor() as isize) - 1).clamp(0, nx) as usize;
-            let c_hi = ((col_of(lx + ox).ceil() as isize) + 2).clamp(0, nx) as usize; // exclusive
-                                                                                      // The hole of the annulus (cells certainly closer than r_in).
+            // Column bounds are clamped as floats, so huge readings cannot
+            // overflow an integer.
+            let c_lo = to_col(col_of(lx - ox).floor() - 1.0, 0, self.nx);
+            let c_hi = to_col(col_of(lx + ox).ceil() + 2.0, 0, self.nx); // exclusive
+                                                                         // The hole of the annulus (cells certainly closer than r_in).
             let (mut h_lo, mut h_hi) = (c_lo, c_lo);
             if dy.abs() < r_in {
                 let ix = (r_in * r_in - dy * dy).max(0.0).sqrt();
-                let a = ((col_of(lx - ix).ceil() as isize) + 1).clamp(c_lo as isize, c_hi as isize)
-                    as usize;
-                let b =
-                    (col_of(lx + ix).floor() as isize).clamp(a as isize, c_hi as isize) as usize;
+                let a = to_col(col_of(lx - ix).ceil() + 1.0, c_lo, c_hi);
+                let b = to_col(col_of(lx + ix).floor(), a, c_hi);
                 (h_lo, h_hi) = (a, b);
             }
             outside(&mut row[..c_lo]);

@@ -136,10 +136,24 @@ impl FuzzyGrid {
             let wy = s * p.px + c * p.py;
             rx += wx;
             ry += wy;
-            let sx = (rx / self.cell).round();
-            let sy = (ry / self.cell).round();
-            rx -= sx * self.cell;
-            ry -= sy * self.cell;
+            // A shift beyond the grid empties it whatever its size: clamp so
+            // that absurd (but finite) odometry cannot overflow an index, and
+            // drop the remainder of a clamped or non-finite shift.
+            let lim = (self.nx.max(self.ny) + 1) as f32;
+            let cells = |r: f32| {
+                let c = (r / self.cell).round();
+                if c.is_finite() && c.abs() <= lim {
+                    (c, r - c * self.cell)
+                } else if c.is_finite() {
+                    (c.clamp(-lim, lim), 0.0)
+                } else {
+                    (0.0, 0.0)
+                }
+            };
+            let (sx, rem_x) = cells(rx);
+            let (sy, rem_y) = cells(ry);
+            rx = rem_x;
+            ry = rem_y;
             self.shift(sx as isize, sy as isize);
             self.turn_headings(p.turn);
             core[0] += base_core;

@@ -479,6 +479,10 @@ fn integrate(p: &mut Pose2, v: f64, w: f64, dt: f64) {
     }
 }
 
+/// Most odometry-only frames inserted into one gap between measurements;
+/// a longer gap (a corrupt timestamp) gets none.
+const MAX_FILLERS: f64 = 100_000.0;
+
 /// Merges one robot's odometry, measurements and truth into frames.
 ///
 /// Frames fall on every distinct measurement time within the odometry's time
@@ -515,6 +519,11 @@ pub fn merge(
     mt.push(t1);
     for &t in &mt {
         let mut prev = *times.last().unwrap_or(&t0);
+        // A corrupt time far in the future must not make millions of frames.
+        let fillers = ((t - prev) / gap).floor();
+        if fillers > MAX_FILLERS {
+            prev = t - gap;
+        }
         while t - prev > gap {
             prev += gap;
             times.push(prev);
