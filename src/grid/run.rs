@@ -191,6 +191,8 @@ pub struct RunReport {
     pub unknown: usize,
     /// Readings or odometry increments rejected as non-finite/negative.
     pub rejected: usize,
+    /// Readings skipped by [`GridConfig::reobserve_interval`].
+    pub thinned: usize,
 }
 
 /// Runs the grid over `frames` (see the module docs).
@@ -216,6 +218,10 @@ where
     let mut kidnap = opts.kidnap;
     let mut t_first = None;
     let mut first_fix = None;
+    let mut thinned = 0;
+    // Last time each landmark was fed to the grid (by table position).
+    let mut last_fed = vec![f64::NEG_INFINITY; table.landmarks().len()];
+    let interval = cfg.reobserve_interval as f64;
     for f in frames {
         let t0 = *t_first.get_or_insert(f.t);
         let mut o = f.odometry;
@@ -246,10 +252,15 @@ where
             rejected += 1;
         }
         for r in &f.observations {
-            if table.get(r.subject).is_none() {
+            let Ok(slot) = table.landmarks().binary_search_by_key(&r.subject, |m| m.id) else {
                 unknown += 1;
                 continue;
+            };
+            if interval > 0.0 && f.t - last_fed[slot] < interval {
+                thinned += 1;
+                continue;
             }
+            last_fed[slot] = f.t;
             let obs = Observation {
                 landmark: r.subject,
                 range: opts.use_range.then_some(r.range as f32),
@@ -310,6 +321,7 @@ where
         used,
         unknown,
         rejected,
+        thinned,
     })
 }
 
