@@ -214,7 +214,7 @@ impl FuzzyGrid {
                     v.min(1.0)
                 };
                 *v = x;
-                lanes[l] = lanes[l].max(x);
+                lanes[l] = if x > lanes[l] { x } else { lanes[l] }; // SIMD-friendly max
             }
         }
         for v in chunks.into_remainder() {

@@ -58,10 +58,19 @@ impl FuzzyGrid {
     /// is of the belief as last updated); use [`FuzzyGrid::apply_pending`]
     /// first if the prediction should be included.
     pub fn estimate(&self) -> Estimate {
-        let max = self
-            .h
+        // Eight independent maxima so that the pass vectorises.
+        let mut lanes = [0.0f32; 8];
+        let chunks = self.h.chunks_exact(8);
+        let rest = chunks.remainder();
+        for ch in chunks {
+            for l in 0..8 {
+                lanes[l] = if ch[l] > lanes[l] { ch[l] } else { lanes[l] };
+            }
+        }
+        let max = rest
             .iter()
-            .fold(0.0f32, |m, &v| if v > m { v } else { m });
+            .chain(lanes.iter())
+            .fold(0.0f32, |a, &b| if b > a { b } else { a });
         if max <= 0.0 {
             let (cx, cy) = self.cell_center(self.nx / 2, self.ny / 2);
             return Estimate {
@@ -84,27 +93,31 @@ impl FuzzyGrid {
             let row = &self.h[base..base + self.nx];
             // Branch-free sums in 8 lanes so that the loop vectorises (a
             // single f32 accumulator forces sequential adds).
-            let (mut lw, mut lx, mut lt) = ([0.0f32; 8], [0.0f32; 8], [0u32; 8]);
+            let (mut lw, mut lx, mut lt) = ([0.0f32; 8], [0.0f32; 8], [0.0f32; 8]);
             let chunks = row.chunks_exact(8);
             let rest = chunks.remainder();
-            for (k, ch) in chunks.enumerate() {
-                for (l, &v) in ch.iter().enumerate() {
+            const LANE: [f32; 8] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0];
+            let mut c0 = 0.0f32; // one integer→float conversion per row, not per cell
+            for ch in chunks {
+                for l in 0..8 {
+                    let v = ch[l];
                     let w = if v >= cut { v } else { 0.0 };
                     lw[l] += w;
-                    lx[l] += w * (k * 8 + l) as f32;
-                    lt[l] += (v >= top) as u32;
+                    lx[l] += w * (c0 + LANE[l]);
+                    lt[l] += if v >= top { 1.0 } else { 0.0 };
                 }
+                c0 += 8.0;
             }
             let off = row.len() - rest.len();
             for (l, &v) in rest.iter().enumerate() {
                 let w = if v >= cut { v } else { 0.0 };
                 lw[0] += w;
                 lx[0] += w * (off + l) as f32;
-                lt[0] += (v >= top) as u32;
+                lt[0] += if v >= top { 1.0 } else { 0.0 };
             }
             let rw: f32 = lw.iter().sum();
             let rx: f32 = lx.iter().sum();
-            let rt: u32 = lt.iter().sum();
+            let rt = lt.iter().sum::<f32>() as u32;
             if rt > 0 {
                 for (c, &v) in row.iter().enumerate() {
                     if v >= top {
