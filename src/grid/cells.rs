@@ -208,10 +208,16 @@ impl FuzzyGrid {
         let mut chunks = self.h.chunks_exact_mut(8);
         for ch in &mut chunks {
             for (l, v) in ch.iter_mut().enumerate() {
-                let x = if v.is_nan() || *v < flush {
-                    0.0
+                // NaN fails `>=` and is flushed too; no f32::min (its NaN
+                // rule blocks SIMD).
+                let x = if *v >= flush {
+                    if *v < 1.0 {
+                        *v
+                    } else {
+                        1.0
+                    }
                 } else {
-                    v.min(1.0)
+                    0.0
                 };
                 *v = x;
                 lanes[l] = if x > lanes[l] { x } else { lanes[l] }; // SIMD-friendly max
@@ -244,27 +250,27 @@ impl FuzzyGrid {
         if floor > 0.0 {
             // Pass 2: normalise and keep π(x, y, θ) = h · max(b, ramp) ≥ floor
             // for every θ: cells under the floor rise to it with a full-circle
-            // heading (bias 1, Δ reset in pass 3), the others get b ≥ floor / h.
-            let mut lows = 0u32;
-            for (v, b) in self.h.iter_mut().zip(self.bias.iter_mut()) {
-                let n = (*v * k).min(1.0);
+            // heading (bias 1, Δ = 2π), the others get b ≥ floor / h. Selects,
+            // not branches, so that the pass vectorises.
+            let len = self.h.len();
+            let (hs, bs, ds) = (
+                &mut self.h[..len],
+                &mut self.bias[..len],
+                &mut self.delta[..len],
+            );
+            for i in 0..len {
+                let m = hs[i] * k;
+                let n = if m < 1.0 { m } else { 1.0 }; // f32::min's NaN rule blocks SIMD
                 let low = n < floor;
-                *b = if low {
-                    1.0
-                } else if n * *b < floor {
-                    floor / n
-                } else {
-                    *b
-                };
-                *v = if low { floor } else { n };
-                lows += low as u32;
-            }
-            if lows > 0 {
-                for (i, &v) in self.h.iter().enumerate() {
-                    if v == floor && self.bias[i] == 1.0 {
-                        self.delta[i] = 2.0 * PI;
-                    }
-                }
+                // Computed unconditionally (n > 0 whenever it is used) so that
+                // the selects below compile to blends.
+                let raised = floor / if n > 0.0 { n } else { 1.0 };
+                let b = bs[i];
+                let nb = if n * b < floor { raised } else { b };
+                bs[i] = if low { 1.0 } else { nb };
+                let d = ds[i];
+                ds[i] = if low { 2.0 * PI } else { d };
+                hs[i] = if low { floor } else { n };
             }
         } else if k != 1.0 {
             for v in self.h.iter_mut() {
