@@ -1,1 +1,4 @@
 //! lplace: possibilistic place recognition.
+
+pub mod io;
+pub mod percept;
