@@ -116,6 +116,9 @@ pub fn fit_line(points: &[Point2<f64>]) -> Result<LineFit, LineFitError> {
     }
     let first = points[0];
     let mut distinct = false;
+    // Sums are taken relative to the first point: points sharing an exact
+    // coordinate (a vertical or horizontal wall) then have an exactly zero
+    // spread in it, and far-from-origin data loses less precision.
     let (mut sx, mut sy) = (0.0_f64, 0.0_f64);
     for (index, p) in points.iter().enumerate() {
         if !(p.x.is_finite() && p.y.is_finite()) {
@@ -126,14 +129,14 @@ pub fn fit_line(points: &[Point2<f64>]) -> Result<LineFit, LineFitError> {
             });
         }
         distinct |= *p != first;
-        sx += p.x;
-        sy += p.y;
+        sx += p.x - first.x;
+        sy += p.y - first.y;
     }
     if !distinct {
         return Err(LineFitError::Coincident { count });
     }
     let n = count as f64;
-    let c = Point2::new(sx / n, sy / n);
+    let c = Point2::new(first.x + sx / n, first.y + sy / n);
     // Centred second pass: the one-pass formula Σx² − n·x̄² cancels
     // catastrophically for scans far from the map origin.
     let (mut sxx, mut syy, mut sxy) = (0.0_f64, 0.0_f64, 0.0_f64);
