@@ -24,7 +24,7 @@ fn valid(r: &PerceptRecord) -> bool {
     (0.0..=1.0).contains(&r.degree)
         && (0.0..=1.0).contains(&r.delta)
         && (r.degree + r.delta - 1.0).abs() < 1e-12
-        && r.value.is_none_or(f64::is_finite)
+        && r.value.map_or(true, f64::is_finite)
 }
 
 /// Any f64, weighted towards the awkward ones.

@@ -162,6 +162,8 @@ pub fn sensor_bearing(k: usize) -> Option<f64> {
 }
 
 /// What one line holds.
+// A row is 200 bytes inline on purpose: boxing it would allocate per row.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum UciLine {
     /// A data row.

@@ -136,7 +136,7 @@ impl LaserLineOutcome {
 /// `δ_f = min(|M1| + S1/10, 1)`; an undefined slope gives 1.
 pub fn delta_front(m1: Option<f64>, s1: f64) -> f64 {
     match m1 {
-        Some(m) if m.is_finite() && s1.is_finite() => (m.abs() + s1 / 10.0).min(1.0).max(0.0),
+        Some(m) if m.is_finite() && s1.is_finite() => (m.abs() + s1 / 10.0).clamp(0.0, 1.0),
         _ => 1.0,
     }
 }
@@ -337,7 +337,7 @@ pub fn from_image(
     let mut pivot: Option<Point2<f64>> = None;
     for (u, v) in img.on_pixels() {
         let p = Point2::new(u as f64, v as f64);
-        if pivot.is_none_or(|q| p.y > q.y) {
+        if pivot.map_or(true, |q| p.y > q.y) {
             pivot = Some(p);
         }
         scratch.points.push(p);

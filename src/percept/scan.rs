@@ -186,7 +186,7 @@ fn side_reading(
         {
             continue;
         }
-        if best.is_none_or(|(br, _)| r < br) {
+        if best.map_or(true, |(br, _)| r < br) {
             best = Some((r, bearing));
         }
     }

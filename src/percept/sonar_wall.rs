@@ -160,7 +160,7 @@ impl SonarWallOutcome {
 
 /// `δ_w = min(Δ/Δmax, 1)`; NaN or non-positive `Δmax` gives 1.
 pub fn delta_wall(dispersion: f64, delta_max: f64) -> f64 {
-    if !(delta_max > 0.0) || dispersion.is_nan() {
+    if delta_max.is_nan() || delta_max <= 0.0 || dispersion.is_nan() {
         return 1.0;
     }
     (dispersion / delta_max).clamp(0.0, 1.0)
