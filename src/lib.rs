@@ -38,6 +38,7 @@ pub mod engine;
 pub mod io;
 pub mod logic;
 pub mod map;
+pub mod percept;
 pub mod syntax;
 
 #[cfg(feature = "cli")]

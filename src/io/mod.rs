@@ -1,5 +1,9 @@
-//! Reading and writing what crosses the program's edge: percept-stream records and, later, raw
-//! sensor logs and trajectories. Readers here take strings or bytes and do no I/O of their own;
-//! the command line owns the files.
+//! Reading and writing what crosses the program's edge: percept-stream records and raw sensor
+//! logs. Every reader here parses bytes or lines that the caller supplies and performs no I/O of
+//! its own, so the same code serves files, pipes and tests; malformed records are typed errors
+//! carrying what went wrong (and the line number where there are lines), and the caller decides
+//! whether to skip and report them.
 
+pub mod carmen;
 pub mod record;
+pub mod uci;
