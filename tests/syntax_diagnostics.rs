@@ -56,7 +56,10 @@ fn kind_name(d: &Diagnostic) -> String {
 }
 
 /// Every corpus file with the diagnostics it must produce: kind and 1-based line:column.
-const CASES: &[(&str, &[(&str, usize, usize)])] = &[
+/// A diagnostic kind's variant name with its 1-based line and column.
+type Expected = (&'static str, usize, usize);
+
+const CASES: &[(&str, &[Expected])] = &[
     ("arity_mismatch.lpl", &[("ArityMismatch", 3, 4)]),
     (
         "bad_field_value.lpl",
@@ -106,7 +109,7 @@ const CASES: &[(&str, &[(&str, usize, usize)])] = &[
         &[("Syntax", 5, 24), ("Syntax", 6, 23), ("Syntax", 8, 38)],
     ),
     ("syntax_missing_semicolon.lpl", &[("Syntax", 2, 32)]),
-    ("too_deeply_nested.lpl", &[("TooDeeplyNested", 2, 68)]),
+    ("too_deeply_nested.lpl", &[("TooDeeplyNested", 2, 36)]),
     ("unbound_variable.lpl", &[("UnboundVariable", 4, 18)]),
     ("undefined_parameter.lpl", &[("UndefinedParameter", 3, 20)]),
     ("unknown_domain.lpl", &[("UnknownDomain", 1, 28)]),

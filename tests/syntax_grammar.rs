@@ -35,7 +35,7 @@ fn place_references() {
         parser: RulesGrammar,
         input: "range_i(Yellow)",
         rule: RulesRule::place_ref,
-        tokens: [place_ref(0, 15, [place_name(0, 7), ident(8, 14)])]
+        tokens: [place_ref(0, 15, [place_name(0, 7), place_key(7, 15, [ident(8, 14)])])]
     };
     // `x_ij` is an ordinary identifier, not a place reference.
     fails_with! {
@@ -54,7 +54,7 @@ fn atoms_and_tuples() {
         parser: RulesGrammar,
         input: "sig(<a, l>, t)",
         rule: RulesRule::atom,
-        tokens: [atom(0, 14, [ident(0, 3), tuple(4, 10, [ident(5, 6), ident(8, 9)]), ident(12, 13)])]
+        tokens: [atom(0, 14, [ident(0, 3), arglist(3, 14, [tuple(4, 10, [ident(5, 6), ident(8, 9)]), ident(12, 13)])])]
     };
     parses_to! {
         parser: RulesGrammar,
@@ -90,7 +90,7 @@ fn formula_precedence() {
         input: "!a * b & c",
         rule: RulesRule::disj,
         tokens: [disj(0, 10, [conj(0, 10, [
-            times(0, 7, [
+            times(0, 6, [
                 unary(0, 2, [not_op(0, 1), atom(1, 2, [ident(1, 2)])]),
                 unary(5, 6, [atom(5, 6, [ident(5, 6)])])
             ]),
@@ -244,7 +244,7 @@ fn a_bare_top_level_arrow_chain_is_rejected() {
         parser: RulesGrammar,
         input: "|- a -> b -> c;",
         rule: RulesRule::file,
-        positives: vec![RulesRule::schema],
+        positives: vec![RulesRule::kw_for, RulesRule::arglist],
         negatives: vec![],
         pos: 10
     };

@@ -4,7 +4,7 @@ use super::args::CheckArgs;
 use super::{read_source, render, CliError, EXIT_OK};
 use crate::engine::{compile, CompileOptions, OFFICE_MAP};
 use crate::map::Map;
-use crate::syntax::check::check_rules;
+use crate::syntax::check::{check_map_against_rules, check_rules};
 use crate::syntax::diagnostic::{Diagnostic, SourceFile};
 use crate::syntax::{parse_map, parse_rules};
 use std::io::Write;
@@ -49,7 +49,7 @@ pub fn run(args: &CheckArgs, out: &mut impl Write) -> Result<u8, CliError> {
                 m.landmarks().len(),
                 m.graph().edge_count()
             )?;
-            models.push(m);
+            models.push((m, file));
         }
     }
     if !rules.is_empty() && models.is_empty() {
@@ -63,7 +63,7 @@ pub fn run(args: &CheckArgs, out: &mut impl Write) -> Result<u8, CliError> {
             }
         };
         match load_map(&file, &mut errors) {
-            Some(m) => models.push(m),
+            Some(m) => models.push((m, file)),
             None => return Err(CliError::Diagnostics { count: errors }),
         }
     }
@@ -76,7 +76,7 @@ pub fn run(args: &CheckArgs, out: &mut impl Write) -> Result<u8, CliError> {
                 continue;
             }
         };
-        for map in &models {
+        for (map, map_file) in &models {
             let checked = match check_rules(&ast, map) {
                 Ok(c) => c,
                 Err(d) => {
@@ -84,6 +84,10 @@ pub fn run(args: &CheckArgs, out: &mut impl Write) -> Result<u8, CliError> {
                     continue;
                 }
             };
+            let cross = check_map_against_rules(map, &checked);
+            if !cross.is_empty() {
+                errors += report(map_file, &cross);
+            }
             match compile(&checked, map, &CompileOptions::default()) {
                 Ok(c) => writeln!(
                     out,

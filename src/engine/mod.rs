@@ -35,7 +35,7 @@ pub use outcome::Outcome;
 
 use crate::logic::{clamp_degree, decide, Decision, DecisionParams, PlaceDistribution};
 use crate::map::Map;
-use crate::syntax::check::{check_rules, RuleSet};
+use crate::syntax::check::{check_map_against_rules, check_rules, RuleSet};
 use crate::syntax::diagnostic::{Diagnostic, SourceFile};
 use crate::syntax::{parse_map, parse_rules};
 use serde::{Deserialize, Serialize};
@@ -123,6 +123,11 @@ impl Engine {
         let rule_ast = parse_rules(&rules.text).map_err(|d| fail(FileRole::Rules, rules, d))?;
         let checked =
             check_rules(&rule_ast, &model).map_err(|d| fail(FileRole::Rules, rules, d))?;
+        // Cross-file problems (a wall direction the rules' `Dir` lacks) live in the map's text.
+        let cross = check_map_against_rules(&model, &checked);
+        if cross.iter().any(Diagnostic::is_error) {
+            return Err(fail(FileRole::Map, map, cross));
+        }
         Engine::new(model, checked, opts).map_err(|d| fail(FileRole::Rules, rules, d))
     }
 

@@ -179,7 +179,7 @@ impl Map {
                 Some((a, b, self.graph.edge_weight(e)?.length))
             })
             .collect();
-        paths.sort_by(|x, y| (x.0, x.1).cmp(&(y.0, y.1)));
+        paths.sort_by_key(|x| (x.0, x.1));
         MapSummary {
             name: self.name.clone(),
             places: self.places.iter().map(|p| p.name.clone()).collect(),

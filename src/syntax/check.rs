@@ -64,6 +64,8 @@ pub struct RuleSet {
 }
 
 /// Checks `file` against `map`; returns the rule set or every problem found, sorted by position.
+/// Every returned diagnostic points into the rule file. Call [`check_map_against_rules`]
+/// afterwards for the problems of the map that only the rule file reveals.
 pub fn check_rules(file: &RuleFile, map: &Map) -> Result<RuleSet, Vec<Diagnostic>> {
     let mut c = Checker {
         map,
@@ -86,8 +88,9 @@ pub fn check_rules(file: &RuleFile, map: &Map) -> Result<RuleSet, Vec<Diagnostic
         }
     }
     c.never_fires();
+    // The map's directions are checked separately (`check_map_against_rules`): those
+    // diagnostics point into the map file, not this one.
     let Checker { mut diags, set, .. } = c;
-    diags.extend(check_map_against_rules(map, &set));
     if diags.iter().any(Diagnostic::is_error) {
         diags.sort_by_key(|d| (d.span.start, d.span.end));
         Err(diags)

@@ -61,6 +61,8 @@ pub fn rules_label(r: RulesRule) -> &'static str {
         R::or_op => "`(+)`",
         R::not_op => "`!`",
         R::atom => "an atom",
+        R::arglist => "an argument list",
+        R::place_key => "a key `(Name)`",
         R::tuple => "a tuple `<…>`",
         _ => "whitespace",
     }

@@ -61,9 +61,11 @@ struct Builder<'d> {
 }
 
 impl Builder<'_> {
+    /// The span of `p` in the whole file, without trailing whitespace (see `parse_rules`).
     fn span(&self, p: &Pair<'_, R>) -> Span {
         let s = p.as_span();
-        Span::new(self.base + s.start(), self.base + s.end())
+        let len = p.as_str().trim_end().len();
+        Span::new(self.base + s.start(), self.base + s.start() + len)
     }
 
     fn ident(&self, p: &Pair<'_, R>) -> Ident {

@@ -57,9 +57,12 @@ fn internal(what: &'static str, span: Span) -> Diagnostic {
 }
 
 impl Builder<'_> {
+    /// The span of `p` in the whole file, without the trailing whitespace that pest's implicit
+    /// whitespace handling leaves inside rules ending in a repetition.
     fn span(&self, p: &Pair<'_, R>) -> Span {
         let s = p.as_span();
-        Span::new(self.base + s.start(), self.base + s.end())
+        let len = p.as_str().trim_end().len();
+        Span::new(self.base + s.start(), self.base + s.start() + len)
     }
 
     fn ident(&self, p: &Pair<'_, R>) -> Ident {
@@ -312,7 +315,11 @@ impl Builder<'_> {
             Some(n) => self.ident(&n),
             None => Spanned::new(String::new(), span),
         };
-        let args = it.map(|t| self.term(t)).collect();
+        let args = it
+            .filter(|x| x.as_rule() == R::arglist)
+            .flat_map(|x| x.into_inner())
+            .map(|t| self.term(t))
+            .collect();
         Atom { name, args, span }
     }
 
@@ -323,7 +330,10 @@ impl Builder<'_> {
                 let mut it = p.into_inner();
                 let name = it.next().map_or("", |n| n.as_str());
                 let name = name.strip_suffix("_i").unwrap_or(name).to_string();
-                let key = it.next().map(|k| k.as_str().to_string());
+                let key = it
+                    .next()
+                    .and_then(|k| k.into_inner().next())
+                    .map(|k| k.as_str().to_string());
                 Term::PlaceRef { name, key }
             }
             R::tuple => Term::Tuple(p.into_inner().map(|t| self.term(t)).collect()),

@@ -14,7 +14,7 @@ use pest::{Parser, RuleType};
 /// How deeply parentheses, braces, tuples, negations and nested `->` may nest. Real rule files
 /// stay below 10; the limit keeps the recursive parser and every later recursive pass (checker,
 /// compiler, `Drop`) far from the end of the stack even on a small thread stack.
-pub const MAX_NESTING: usize = 64;
+pub const MAX_NESTING: usize = 32;
 
 /// Returns a "too deeply nested" diagnostic if `text` nests deeper than [`MAX_NESTING`].
 pub fn nesting_check(text: &str) -> Option<Diagnostic> {
@@ -45,20 +45,16 @@ pub fn nesting_check(text: &str) -> Option<Diagnostic> {
                     *top = 0;
                 }
             }
-            b')' | b'}' => {
-                if arrows.len() > 1 {
-                    arrows.pop();
-                }
+            b')' | b'}' if arrows.len() > 1 => {
+                arrows.pop();
             }
             b'>' if i > 0 && bytes[i - 1] == b'-' => {
                 if let Some(top) = arrows.last_mut() {
                     *top += 1;
                 }
             }
-            b'>' => {
-                if arrows.len() > 1 {
-                    arrows.pop();
-                }
+            b'>' if arrows.len() > 1 => {
+                arrows.pop();
             }
             _ => {}
         }
