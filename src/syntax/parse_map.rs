@@ -7,7 +7,7 @@
 use super::ast::*;
 use super::diagnostic::{Diagnostic, DiagnosticKind};
 use super::grammar::{map_label, MapGrammar, MapRule as R};
-use super::recover::parse_items;
+use super::recover::{pair_number, pair_span, parse_items};
 use super::span::{Ident, Span, Spanned};
 use pest::iterators::Pair;
 
@@ -63,9 +63,7 @@ struct Builder<'d> {
 impl Builder<'_> {
     /// The span of `p` in the whole file, without trailing whitespace (see `parse_rules`).
     fn span(&self, p: &Pair<'_, R>) -> Span {
-        let s = p.as_span();
-        let len = p.as_str().trim_end().len();
-        Span::new(self.base + s.start(), self.base + s.start() + len)
+        pair_span(self.base, p)
     }
 
     fn ident(&self, p: &Pair<'_, R>) -> Ident {
@@ -73,19 +71,7 @@ impl Builder<'_> {
     }
 
     fn number(&mut self, p: &Pair<'_, R>) -> Spanned<f64> {
-        let span = self.span(p);
-        match p.as_str().parse::<f64>() {
-            Ok(x) if x.is_finite() => Spanned::new(x, span),
-            _ => {
-                self.diags.push(Diagnostic::error(
-                    DiagnosticKind::NumberOutOfRange {
-                        text: p.as_str().to_string(),
-                    },
-                    span,
-                ));
-                Spanned::new(0.0, span)
-            }
-        }
+        pair_number(self.base, p, self.diags)
     }
 
     fn numbers(&mut self, p: Pair<'_, R>) -> Vec<f64> {

@@ -331,3 +331,34 @@ mod tests {
         .is_none());
     }
 }
+
+/// The span of `p` in the whole file (`base` is where its item starts), without the trailing
+/// whitespace that pest's implicit whitespace handling leaves inside rules ending in a repetition.
+pub(crate) fn pair_span<R: RuleType>(base: usize, p: &Pair<'_, R>) -> Span {
+    let s = p.as_span();
+    let len = p.as_str().trim_end().len();
+    Span::new(base + s.start(), base + s.start() + len)
+}
+
+/// A number token as a finite `f64`; anything else (overflow to infinity) is reported and read
+/// as 0 so that building the AST can go on and find the file's other problems.
+pub(crate) fn pair_number<R: RuleType>(
+    base: usize,
+    p: &Pair<'_, R>,
+    diags: &mut Vec<Diagnostic>,
+) -> crate::syntax::span::Spanned<f64> {
+    use crate::syntax::span::Spanned;
+    let span = pair_span(base, p);
+    match p.as_str().parse::<f64>() {
+        Ok(x) if x.is_finite() => Spanned::new(x, span),
+        _ => {
+            diags.push(Diagnostic::error(
+                DiagnosticKind::NumberOutOfRange {
+                    text: p.as_str().to_string(),
+                },
+                span,
+            ));
+            Spanned::new(0.0, span)
+        }
+    }
+}
