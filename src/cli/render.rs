@@ -15,7 +15,10 @@ pub fn render(file: &SourceFile, diags: &[Diagnostic], colour: bool) -> String {
     };
     let handler = GraphicalReportHandler::new_themed(theme).with_width(100);
     let mut out = String::new();
-    if handler.render_report(&mut out, &Report::new(file, diags)).is_err() {
+    if handler
+        .render_report(&mut out, &Report::new(file, diags))
+        .is_err()
+    {
         // The graphical renderer refused (it cannot fail on our spans, but a report must
         // never be lost): fall back to one line per problem.
         out = diags.iter().map(|d| d.render_plain(file) + "\n").collect();
