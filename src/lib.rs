@@ -39,6 +39,8 @@ pub mod io;
 pub mod logic;
 pub mod map;
 pub mod percept;
+pub mod report;
+pub mod sim;
 pub mod syntax;
 
 #[cfg(feature = "cli")]

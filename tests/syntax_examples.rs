@@ -31,7 +31,7 @@ fn office_example_is_clean() {
     assert_eq!(map.places().len(), 8);
     assert_eq!(map.rooms().len(), 2);
     assert_eq!(map.landmarks().len(), 1);
-    assert_eq!(set.rules.len(), 7);
+    assert_eq!(set.rules.len(), 8);
     assert_eq!(set.logic.tnorm, lplace::logic::TNorm::Product);
     assert_eq!(set.domains["Dir"], ["North", "East", "South", "West"]);
     assert_eq!(set.domains["Place"].len(), 8);

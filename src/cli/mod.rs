@@ -1,4 +1,4 @@
-//! The command line: `lplace check | explain | eval`.
+//! The command line: `lplace check | explain | eval | simulate | extract`.
 //!
 //! Flags are handled in two stages, as in ripgrep: [`args`] parses the command line with clap
 //! into plain data, then each command module turns that into a ready-to-run command (files read,
@@ -18,7 +18,9 @@ pub mod args;
 mod check;
 mod eval;
 mod explain;
+mod extract;
 mod render;
+mod simulate;
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -87,6 +89,8 @@ pub fn main() -> ExitCode {
         args::Command::Check(a) => check::run(&a, &mut out),
         args::Command::Explain(a) => explain::run(&a, &mut out),
         args::Command::Eval(a) => eval::run(&a, &mut out),
+        args::Command::Simulate(a) => simulate::run(&a, &mut out),
+        args::Command::Extract(a) => extract::run(&a, &mut out),
     };
     let result = result.and_then(|code| out.flush().map(|_| code).map_err(CliError::Write));
     match result {

@@ -28,6 +28,7 @@ pub mod frame;
 pub mod interpret;
 pub mod outcome;
 pub mod tape;
+pub mod tracker;
 
 pub use compile::{compile, CompileOptions, Compiled, Contribution, GroundAtom};
 pub use frame::{Frame, PerceptInstance, PerceptSlot, PerceptTable};

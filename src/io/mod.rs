@@ -5,5 +5,8 @@
 //! whether to skip and report them.
 
 pub mod carmen;
+pub mod carmen_stream;
+pub mod csv;
 pub mod record;
+pub mod stream;
 pub mod uci;

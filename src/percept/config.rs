@@ -15,7 +15,9 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use super::beacon::{BeaconConfig, LandmarkConfig};
+use super::compass::CompassConfig;
 use super::laser_line::LaserLineConfig;
+use super::layout::LayoutConfig;
 use super::scan::SideBeamConfig;
 use super::sonar_wall::SonarWallConfig;
 
@@ -61,6 +63,10 @@ pub struct ExtractConfig {
     pub beacon: BeaconConfig,
     /// Landmark range/bearing readings.
     pub landmark: LandmarkConfig,
+    /// Heading-invariant layout percepts of a scan (`corridor_width`, `side_openings`).
+    pub layout: LayoutConfig,
+    /// Axis-locked heading and compass free ranges (`free_range(Dir)`); off by default.
+    pub compass: CompassConfig,
 }
 
 impl ExtractConfig {
@@ -97,7 +103,9 @@ impl ExtractConfig {
         finite("side_beams.right_bearing_deg", s.right_bearing_deg)?;
         non_negative("side_beams.cone_half_width_deg", s.cone_half_width_deg)?;
         self.beacon.validate()?;
-        self.landmark.validate()
+        self.landmark.validate()?;
+        self.layout.validate()?;
+        self.compass.validate()
     }
 }
 

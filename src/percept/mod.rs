@@ -21,9 +21,11 @@
 //! "no support", which is what the possibilistic reading of missing evidence is.
 
 pub mod beacon;
+pub mod compass;
 pub mod config;
 pub mod image;
 pub mod laser_line;
+pub mod layout;
 pub mod line_fit;
 pub mod scan;
 pub mod sonar_wall;
