@@ -1,5 +1,14 @@
-//! Readers and writers of recorded data. None of them opens files: they take
-//! text or `BufRead`/`Write` handles from the caller.
+//! Reading and writing what crosses the program's edge: percept-stream records and raw sensor
+//! logs and trajectories. Every reader here parses bytes or lines that the caller supplies and performs no I/O of
+//! its own, so the same code serves files, pipes and tests; malformed records are typed errors
+//! carrying what went wrong (and the line number where there are lines), and the caller decides
+//! whether to skip and report them.
 
+pub mod carmen;
+pub mod carmen_stream;
+pub mod csv;
 pub mod mrclam;
+pub mod record;
+pub mod stream;
 pub mod tum;
+pub mod uci;

@@ -1,0 +1,240 @@
+//! Stage one of the command line: clap definitions, parsed into plain data. Nothing here reads a
+//! file; `--help` texts are the reference for every flag.
+
+use clap::{Args, Parser, Subcommand};
+use std::ffi::OsString;
+use std::path::PathBuf;
+
+/// Possibilistic place recognition over annotated topological maps.
+///
+/// With no --map/--rules, commands use the bundled office example of paper 003
+/// (maps/office.map, rules/office.lpl).
+#[derive(Debug, Parser)]
+#[command(name = "lplace", version, about, long_about = None, propagate_version = true)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Parse and check map (.map) and rule (.lpl) files; print every problem found.
+    ///
+    /// Rule files are checked against the map given among the files, else --map, else the
+    /// bundled office map. Exit 0 when clean, 2 with errors.
+    Check(CheckArgs),
+    /// Print the closed-form degree function of each place (paper 003 eq. (6) style).
+    Explain(ExplainArgs),
+    /// Evaluate a percept stream (or one frame) and print one decision per frame.
+    ///
+    /// With no STREAM and no --frame, evaluates the bundled office recording
+    /// (recordings/office.jsonl, made by `lplace simulate`). Exit 0 when every record was
+    /// used, 3 when some were rejected (each reported on stderr as STREAM:LINE: reason),
+    /// 1 when the stream cannot be read, 2 for bad arguments, map or rules.
+    Eval(EvalArgs),
+    /// Simulate a robot walking the map and print its percept stream with ground truth.
+    ///
+    /// Deterministic: the same arguments give byte-identical output.
+    Simulate(SimulateArgs),
+    /// Turn a raw sensor log (CARMEN) into a percept stream (JSON lines) on stdout.
+    ///
+    /// One frame per laser scan; with --map, each frame carries its ground-truth place. Exit 0,
+    /// or 3 when some log lines were malformed (each reported on stderr with its line number).
+    Extract(super::extract::ExtractArgs),
+}
+
+/// The map and rules to load.
+#[derive(Debug, Args, Clone)]
+pub struct ModelArgs {
+    /// Map file (.map). Default: the bundled office map.
+    #[arg(long, value_name = "MAP")]
+    pub map: Option<PathBuf>,
+    /// Rule file (.lpl). Default: the bundled office rules.
+    #[arg(long, value_name = "RULES")]
+    pub rules: Option<PathBuf>,
+}
+
+/// `lplace check`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// Files to check: .map and .lpl.
+    #[arg(required = true, value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+    /// Map to check rule files against when no .map is among FILES.
+    #[arg(long, value_name = "MAP")]
+    pub map: Option<PathBuf>,
+}
+
+/// `lplace explain`.
+#[derive(Debug, Args)]
+pub struct ExplainArgs {
+    /// The map and rules.
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Only this place.
+    #[arg(long, value_name = "PLACE")]
+    pub place: Option<String>,
+    /// Also print each formula in the paper's dissimilarity form (δ = 1 − degree).
+    #[arg(long)]
+    pub dissimilarity: bool,
+}
+
+/// Output formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// One JSON object.
+    Json,
+    /// A human-readable table.
+    Table,
+    /// Comma-separated values with a header.
+    Csv,
+}
+
+/// How to print the summary of a stream.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SummaryFormat {
+    /// Lines for a person.
+    Text,
+    /// One JSON object.
+    Json,
+    /// No summary.
+    None,
+}
+
+/// The wire form of a stream.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum StreamForm {
+    /// JSON Lines.
+    Jsonl,
+    /// CSV with a header.
+    Csv,
+}
+
+/// `lplace eval`.
+#[derive(Debug, Args)]
+pub struct EvalArgs {
+    /// The map and rules.
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Percept stream: JSON Lines (.jsonl) or CSV (.csv); `-` reads stdin. Default: the
+    /// bundled office recording.
+    #[arg(value_name = "STREAM", conflicts_with = "frame")]
+    pub stream: Option<PathBuf>,
+    /// One frame as JSON, e.g. '{"percepts":[{"name":"sonar_wall","args":["North"],"degree":0.8}]}'.
+    #[arg(long, value_name = "JSON")]
+    pub frame: Option<String>,
+    /// Also list the rule instances that fired and how strongly (--frame only).
+    #[arg(long)]
+    pub trace: bool,
+    /// Output format: one JSON object per frame (json), csv, or an aligned table.
+    #[arg(long, value_enum, default_value_t = Format::Json)]
+    pub format: Format,
+    /// Stream form; default from the extension (.csv is CSV, else JSON Lines).
+    #[arg(long, value_enum, value_name = "FORM")]
+    pub input: Option<StreamForm>,
+    /// Summary after the stream, on stderr.
+    #[arg(long, value_enum, default_value_t = SummaryFormat::Text)]
+    pub summary: SummaryFormat,
+    /// Print no decisions; print the summary on stdout instead of stderr.
+    #[arg(long)]
+    pub only_summary: bool,
+    /// Add every place's Π and N to each decision.
+    #[arg(long)]
+    pub degrees: bool,
+    /// Decide each frame on its own evidence, without tracking along the map graph.
+    #[arg(long)]
+    pub no_track: bool,
+    /// Tracker parameters (RON), e.g. '(bias: 0.1, tolerance: 0.8)'; see the README for defaults.
+    #[arg(long, value_name = "RON")]
+    pub tracker: Option<PathBuf>,
+    /// Draw the run (per place Π and N over frames, chosen place, truth) as SVG.
+    #[arg(long, value_name = "SVG")]
+    pub plot: Option<PathBuf>,
+}
+
+/// `lplace simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// The map and rules (the rules say which percepts to emit).
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Frames to emit.
+    #[arg(long, default_value_t = 2000)]
+    pub steps: u64,
+    /// Random seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Metres per frame.
+    #[arg(long, default_value_t = 0.3)]
+    pub speed: f64,
+    /// Probability that a percept is missing.
+    #[arg(long, default_value_t = 0.1)]
+    pub p_missing: f64,
+    /// Probability that a sonar wall is occluded.
+    #[arg(long, default_value_t = 0.1)]
+    pub p_occlude: f64,
+    /// Probability that a frame's measured values are another place's (mislabelled beacon).
+    #[arg(long, default_value_t = 0.04)]
+    pub p_mislabel: f64,
+    /// Probability of a spurious corner in a frame.
+    #[arg(long, default_value_t = 0.04)]
+    pub p_spurious: f64,
+    /// Standard deviation of angular values, degrees.
+    #[arg(long, default_value_t = 5.0)]
+    pub angle_noise: f64,
+    /// Relative standard deviation of other values.
+    #[arg(long, default_value_t = 0.05)]
+    pub range_noise: f64,
+    /// Relative standard deviation of the odometry.
+    #[arg(long, default_value_t = 0.05)]
+    pub odometry_noise: f64,
+    /// Kidnap the robot (teleport to a random other place) at these frames (0-based).
+    #[arg(long, value_name = "K", value_delimiter = ',')]
+    pub kidnap_at: Vec<u64>,
+    /// Output form.
+    #[arg(long, value_enum, default_value_t = StreamForm::Jsonl)]
+    pub format: StreamForm,
+    /// Write to this file instead of stdout.
+    #[arg(long, short, value_name = "FILE")]
+    pub output: Option<PathBuf>,
+}
+
+/// A flag value that parsed but makes no sense.
+#[derive(Debug, thiserror::Error)]
+pub enum ArgError {
+    /// `--place` names no place of the map.
+    #[error("no place `{name}` in the map (places: {known})")]
+    UnknownPlace {
+        /// What was asked.
+        name: String,
+        /// The places there are.
+        known: String,
+    },
+    /// The frame given with `--frame` is not usable.
+    #[error("--frame: {0}")]
+    Frame(#[from] crate::io::record::RecordError),
+    /// A numeric flag outside its range.
+    #[error("--{flag}: {value} is out of range ({range})")]
+    OutOfRange {
+        /// The flag.
+        flag: &'static str,
+        /// Its value.
+        value: f64,
+        /// The allowed range.
+        range: &'static str,
+    },
+    /// The tracker configuration is not valid.
+    #[error("--tracker: {0}")]
+    Tracker(#[from] crate::engine::tracker::TrackerConfigError),
+}
+
+/// Parses the command line (stage one).
+pub fn parse<I, T>(args: I) -> Result<Cli, clap::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    Cli::try_parse_from(args)
+}

@@ -1,0 +1,109 @@
+//! `lplace check`: parse and check map and rule files, printing every problem of every file.
+
+use super::args::CheckArgs;
+use super::{read_source, render, CliError, EXIT_OK};
+use crate::engine::{compile, CompileOptions, OFFICE_MAP};
+use crate::map::Map;
+use crate::syntax::check::{check_map_against_rules, check_rules};
+use crate::syntax::diagnostic::{Diagnostic, SourceFile};
+use crate::syntax::{parse_map, parse_rules};
+use std::io::Write;
+use std::path::Path;
+
+fn is_map(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e == "map")
+}
+
+/// Loads a map file into a model, printing its diagnostics; `None` if it has errors.
+fn load_map(file: &SourceFile, problems: &mut usize) -> Option<Map> {
+    let result = parse_map(&file.text).and_then(|ast| Map::from_ast(&ast));
+    match result {
+        Ok(map) => Some(map),
+        Err(d) => {
+            *problems += report(file, &d);
+            None
+        }
+    }
+}
+
+/// Prints `diags` for `file`; returns how many are errors.
+fn report(file: &SourceFile, diags: &[Diagnostic]) -> usize {
+    render::eprint(file, diags);
+    diags.iter().filter(|d| d.is_error()).count()
+}
+
+/// Runs `check`; exit 0 when every file is clean.
+pub fn run(args: &CheckArgs, out: &mut impl Write) -> Result<u8, CliError> {
+    let mut errors = 0usize;
+    let (maps, rules): (Vec<_>, Vec<_>) = args.files.iter().partition(|p| is_map(p));
+    let mut models = Vec::new();
+    for path in &maps {
+        let file = read_source(path)?;
+        if let Some(m) = load_map(&file, &mut errors) {
+            writeln!(
+                out,
+                "{}: ok ({} places, {} rooms, {} landmarks, {} paths)",
+                file.name,
+                m.places().len(),
+                m.rooms().len(),
+                m.landmarks().len(),
+                m.graph().edge_count()
+            )?;
+            models.push((m, file));
+        }
+    }
+    if !rules.is_empty() && models.is_empty() {
+        // Rules need a map to be checked against: --map, else the bundled office map.
+        let file = match &args.map {
+            Some(p) => read_source(p)?,
+            None if maps.is_empty() => SourceFile::new("maps/office.map (bundled)", OFFICE_MAP),
+            None => {
+                // The given maps had errors; checking rules against another would mislead.
+                return Err(CliError::Diagnostics { count: errors });
+            }
+        };
+        match load_map(&file, &mut errors) {
+            Some(m) => models.push((m, file)),
+            None => return Err(CliError::Diagnostics { count: errors }),
+        }
+    }
+    for path in &rules {
+        let file = read_source(path)?;
+        let ast = match parse_rules(&file.text) {
+            Ok(ast) => ast,
+            Err(d) => {
+                errors += report(&file, &d);
+                continue;
+            }
+        };
+        for (map, map_file) in &models {
+            let checked = match check_rules(&ast, map) {
+                Ok(c) => c,
+                Err(d) => {
+                    errors += report(&file, &d);
+                    continue;
+                }
+            };
+            let cross = check_map_against_rules(map, &checked);
+            if !cross.is_empty() {
+                errors += report(map_file, &cross);
+            }
+            match compile(&checked, map, &CompileOptions::default()) {
+                Ok(c) => writeln!(
+                    out,
+                    "{}: ok ({} rules, {} percept instances, {} instructions)",
+                    file.name,
+                    checked.rules.len(),
+                    c.percepts.len(),
+                    c.tape.len()
+                )?,
+                Err(d) => errors += report(&file, &d),
+            }
+        }
+    }
+    if errors > 0 {
+        Err(CliError::Diagnostics { count: errors })
+    } else {
+        Ok(EXIT_OK)
+    }
+}

@@ -1,0 +1,449 @@
+//! `lplace eval`: evaluate a percept stream (or one `--frame`) and print one decision per frame,
+//! then a summary.
+//!
+//! The stream is read line by line ([`crate::io::stream`]), each frame stepped through the engine
+//! and, unless `--no-track`, the [`Tracker`]; decisions are written as they come, so memory stays
+//! flat on any length. Rejected records are reported on stderr as `STREAM:LINE: reason`, counted,
+//! and make the exit code 3.
+
+use super::args::{ArgError, EvalArgs, Format, StreamForm, SummaryFormat};
+use super::{load_engine, CliError, EXIT_OK, EXIT_REJECTED};
+use crate::engine::tracker::{Tracker, TrackerConfig};
+use crate::engine::{CompileOptions, Engine};
+use crate::io::record::FrameRecord;
+use crate::io::stream::{FrameMeta, ReadOutcome, Schema, StreamFormat, StreamReader};
+use crate::logic::{Decision, DecisionParams, PlaceDistribution};
+use crate::report::summary::reason_name;
+use crate::report::{RunPlot, Tally};
+use std::io::{BufRead, BufReader, IsTerminal, Write};
+
+/// The bundled office recording (made by `lplace simulate`, see notes/streams.md).
+pub const OFFICE_RECORDING: &str = include_str!("../../recordings/office.jsonl");
+
+/// Runs `eval`.
+pub fn run(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
+    match &args.frame {
+        Some(json) => run_frame(args, json, out),
+        None => run_stream(args, out),
+    }
+}
+
+/// Evaluates one frame. A frame with any unusable percept is rejected whole (exit 2): on the
+/// command line, a typo should not quietly change the answer.
+fn run_frame(args: &EvalArgs, json: &str, out: &mut impl Write) -> Result<u8, CliError> {
+    let opts = CompileOptions {
+        trace: args.trace,
+        ..CompileOptions::default()
+    };
+    let mut engine = load_engine(&args.model, &opts)?;
+    let record = FrameRecord::parse(json).map_err(ArgError::Frame)?;
+    let mut frame = engine.new_frame();
+    let mut rejected = Vec::new();
+    record.fill(engine.percepts(), &mut frame, &mut rejected);
+    if let Some(first) = rejected.into_iter().next() {
+        return Err(ArgError::Frame(first).into());
+    }
+    engine.step(&frame);
+    let outcome = engine.outcome();
+    match args.format {
+        Format::Json => {
+            serde_json::to_writer_pretty(&mut *out, &outcome).map_err(std::io::Error::from)?;
+            writeln!(out)?;
+        }
+        Format::Csv => {
+            writeln!(out, "outcome,place,necessity,reason,inconsistency")?;
+            writeln!(
+                out,
+                "{},{},{},{},{}",
+                outcome.outcome,
+                outcome.place.as_deref().unwrap_or(""),
+                outcome.necessity.map_or(String::new(), |n| n.to_string()),
+                outcome.reason.unwrap_or(""),
+                outcome.inconsistency
+            )?;
+        }
+        Format::Table => {
+            match (&outcome.place, outcome.reason) {
+                (Some(p), _) => writeln!(
+                    out,
+                    "place {p} (N = {:.3})",
+                    outcome.necessity.unwrap_or(0.0)
+                )?,
+                (None, Some(r)) => {
+                    writeln!(out, "disoriented: {r} {}", outcome.candidates.join(" vs "))?
+                }
+                (None, None) => writeln!(out, "disoriented")?,
+            }
+            writeln!(out, "Inc = {:.3}", outcome.inconsistency)?;
+            writeln!(
+                out,
+                "{:<8} {:>7} {:>7} {:>7} {:>7}",
+                "place", "support", "exclude", "Π", "N"
+            )?;
+            for p in &outcome.places {
+                writeln!(
+                    out,
+                    "{:<8} {:>7.3} {:>7.3} {:>7.3} {:>7.3}",
+                    p.place, p.support, p.exclusion, p.possibility, p.necessity
+                )?;
+            }
+            for r in &outcome.rooms {
+                writeln!(
+                    out,
+                    "room {:<3} support {:.3}  Π {:.3}  N {:.3}",
+                    r.room, r.support, r.possibility, r.necessity
+                )?;
+            }
+            for f in &outcome.fired {
+                writeln!(
+                    out,
+                    "  rule {} @{} [{}] ⊢ {} = {:.3}",
+                    f.rule,
+                    f.context,
+                    f.binding.join(" "),
+                    f.head,
+                    f.degree
+                )?;
+            }
+        }
+    }
+    Ok(EXIT_OK)
+}
+
+/// Reads the tracker configuration named by `--tracker` (defaults without it).
+fn tracker_config(args: &EvalArgs) -> Result<TrackerConfig, CliError> {
+    let Some(path) = &args.tracker else {
+        return Ok(TrackerConfig::default());
+    };
+    let text = std::fs::read_to_string(path).map_err(|source| CliError::Read {
+        path: path.display().to_string(),
+        source,
+    })?;
+    Ok(TrackerConfig::from_ron(&text).map_err(ArgError::Tracker)?)
+}
+
+/// Writes a degree in `[0, 1]` with 4 decimals, without going through float formatting (this
+/// is on the per-frame path).
+fn write_degree(out: &mut impl Write, x: f64) -> std::io::Result<()> {
+    let v = (x.clamp(0.0, 1.0) * 10_000.0).round() as u32;
+    let frac = v % 10_000;
+    let digits = [
+        b'0' + (v / 10_000) as u8,
+        b'.',
+        b'0' + (frac / 1000) as u8,
+        b'0' + (frac / 100 % 10) as u8,
+        b'0' + (frac / 10 % 10) as u8,
+        b'0' + (frac % 10) as u8,
+    ];
+    out.write_all(&digits)
+}
+
+/// Everything one stream evaluation needs, built once.
+struct Session<'a> {
+    engine: Engine,
+    tracker: Option<Tracker>,
+    places: Vec<String>,
+    args: &'a EvalArgs,
+}
+
+impl Session<'_> {
+    /// Steps one frame; returns the decision and the distribution it was drawn from.
+    fn step(&mut self, frame: &crate::engine::Frame, meta: &FrameMeta) -> Decision {
+        self.engine.step(frame);
+        match &mut self.tracker {
+            Some(t) => t.step(self.engine.distribution(), meta.odometry),
+            None => self.engine.decision(),
+        }
+    }
+
+    fn dist(&self) -> &PlaceDistribution {
+        match &self.tracker {
+            Some(t) => t.distribution(),
+            None => self.engine.distribution(),
+        }
+    }
+
+    fn write_header(&self, out: &mut impl Write) -> std::io::Result<()> {
+        match self.args.format {
+            Format::Csv => {
+                write!(
+                    out,
+                    "line,t,outcome,place,necessity,reason,inconsistency,truth"
+                )?;
+                if self.args.degrees {
+                    for p in &self.places {
+                        write!(out, ",pi:{p},n:{p}")?;
+                    }
+                }
+                writeln!(out)
+            }
+            Format::Table => writeln!(
+                out,
+                "{:>7} {:>9}  {:<26} {:>6} {:>6}  truth",
+                "line", "t", "decision", "N", "Inc"
+            ),
+            Format::Json => Ok(()),
+        }
+    }
+
+    fn write_decision(
+        &self,
+        out: &mut impl Write,
+        d: Decision,
+        meta: &FrameMeta,
+    ) -> std::io::Result<()> {
+        let dist = self.dist();
+        let name = |k: usize| self.places.get(k).map_or("?", String::as_str);
+        let truth = if meta.truth_known {
+            Some(meta.truth_place.map_or("none", name))
+        } else {
+            None
+        };
+        match self.args.format {
+            Format::Json => {
+                write!(out, "{{\"line\":{}", meta.line)?;
+                if let Some(t) = meta.t {
+                    write!(out, ",\"t\":{t}")?;
+                }
+                match d {
+                    Decision::Place { place, necessity } => {
+                        write!(out, ",\"place\":\"{}\",\"necessity\":", name(place))?;
+                        write_degree(out, necessity)?;
+                    }
+                    Decision::Disoriented(why) => {
+                        write!(out, ",\"place\":null,\"reason\":\"{}\"", reason_name(&why))?;
+                    }
+                }
+                write!(out, ",\"inconsistency\":")?;
+                write_degree(out, dist.inconsistency)?;
+                match truth {
+                    Some(t) if meta.truth_place.is_some() => write!(out, ",\"truth\":\"{t}\"")?,
+                    Some(_) => write!(out, ",\"truth\":null")?,
+                    None => {}
+                }
+                if self.args.degrees {
+                    for (key, v) in [
+                        ("possibility", &dist.possibility),
+                        ("necessities", &dist.necessity),
+                    ] {
+                        write!(out, ",\"{key}\":[")?;
+                        for (i, x) in v.iter().enumerate() {
+                            if i > 0 {
+                                out.write_all(b",")?;
+                            }
+                            write_degree(out, *x)?;
+                        }
+                        out.write_all(b"]")?;
+                    }
+                }
+                out.write_all(b"}\n")
+            }
+            Format::Csv => {
+                write!(
+                    out,
+                    "{},{},",
+                    meta.line,
+                    meta.t.map_or(String::new(), |t| t.to_string())
+                )?;
+                match d {
+                    Decision::Place { place, necessity } => {
+                        write!(out, "place,{},", name(place))?;
+                        write_degree(out, necessity)?;
+                        out.write_all(b",,")?;
+                    }
+                    Decision::Disoriented(why) => {
+                        write!(out, "disoriented,,,{},", reason_name(&why))?;
+                    }
+                }
+                write_degree(out, dist.inconsistency)?;
+                write!(out, ",{}", truth.unwrap_or(""))?;
+                if self.args.degrees {
+                    for k in 0..self.places.len() {
+                        out.write_all(b",")?;
+                        write_degree(out, dist.possibility.get(k).copied().unwrap_or(0.0))?;
+                        out.write_all(b",")?;
+                        write_degree(out, dist.necessity.get(k).copied().unwrap_or(0.0))?;
+                    }
+                }
+                out.write_all(b"\n")
+            }
+            Format::Table => {
+                let (what, nec) = match d {
+                    Decision::Place { place, necessity } => {
+                        (format!("place {}", name(place)), format!("{necessity:.3}"))
+                    }
+                    Decision::Disoriented(why) => {
+                        (format!("disoriented: {}", reason_name(&why)), "-".into())
+                    }
+                };
+                writeln!(
+                    out,
+                    "{:>7} {:>9}  {:<26} {:>6} {:>6.3}  {}",
+                    meta.line,
+                    meta.t.map_or("-".to_string(), |t| format!("{t:.3}")),
+                    what,
+                    nec,
+                    dist.inconsistency,
+                    truth.unwrap_or("-")
+                )
+            }
+        }
+    }
+}
+
+fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
+    let engine = load_engine(&args.model, &CompileOptions::default())?;
+    let cfg = tracker_config(args)?;
+    let (name, input, size): (String, Box<dyn BufRead>, Option<u64>) = match &args.stream {
+        None => (
+            "recordings/office.jsonl (bundled)".into(),
+            Box::new(OFFICE_RECORDING.as_bytes()),
+            None,
+        ),
+        Some(p) if p.as_os_str() == "-" => (
+            "<stdin>".into(),
+            Box::new(BufReader::with_capacity(1 << 16, std::io::stdin())),
+            None,
+        ),
+        Some(p) => {
+            let read_err = |source| CliError::Read {
+                path: p.display().to_string(),
+                source,
+            };
+            let f = std::fs::File::open(p).map_err(read_err)?;
+            let meta = f.metadata().map_err(read_err)?;
+            if meta.is_dir() {
+                return Err(read_err(std::io::Error::other("is a directory")));
+            }
+            (
+                p.display().to_string(),
+                Box::new(BufReader::with_capacity(1 << 16, f)),
+                Some(meta.len()),
+            )
+        }
+    };
+    let format = match (args.input, &args.stream) {
+        (Some(StreamForm::Csv), _) => StreamFormat::Csv,
+        (Some(StreamForm::Jsonl), _) => StreamFormat::JsonLines,
+        (None, Some(p)) => StreamFormat::from_path(p),
+        (None, None) => StreamFormat::JsonLines,
+    };
+    let schema = Schema::new(engine.percepts(), engine.map());
+    let places = schema.places().to_vec();
+    let mut reader = StreamReader::new(input, schema, format);
+    let logic = engine.rules().logic;
+    let tracker = (!args.no_track).then(|| {
+        Tracker::new(
+            engine.map(),
+            DecisionParams {
+                threshold: logic.threshold,
+                margin: logic.margin,
+            },
+            cfg,
+        )
+    });
+    let mut frame = engine.new_frame();
+    let mut meta = FrameMeta::default();
+    let mut tally = Tally::new(places.clone(), tracker.is_some());
+    let mut plot = args
+        .plot
+        .as_ref()
+        .map(|_| RunPlot::new(places.clone(), format!("lplace eval {name}")));
+    let mut session = Session {
+        engine,
+        tracker,
+        places,
+        args,
+    };
+    // A progress bar only for a file with a person watching stderr.
+    let progress = match size {
+        Some(len) if std::io::stderr().is_terminal() => {
+            let bar = indicatif::ProgressBar::new(len);
+            bar.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "{bar:40} {bytes}/{total_bytes} {bytes_per_sec} eta {eta}",
+                )
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            Some(bar)
+        }
+        _ => None,
+    };
+    let mut w = std::io::BufWriter::with_capacity(1 << 16, &mut *out);
+    if !args.only_summary {
+        session.write_header(&mut w)?;
+    }
+    loop {
+        let got = reader
+            .next_frame(&mut frame, &mut meta)
+            .map_err(|source| CliError::Read {
+                path: name.clone(),
+                source,
+            })?;
+        match got {
+            ReadOutcome::End => break,
+            ReadOutcome::Rejected(e) => {
+                let msg = format!("{name}:{e}");
+                match &progress {
+                    Some(bar) => bar.suspend(|| eprintln!("{msg}")),
+                    None => eprintln!("{msg}"),
+                }
+                tally.reject(&e.reason);
+            }
+            ReadOutcome::Frame => {
+                let d = session.step(&frame, &meta);
+                tally.record(d, &meta);
+                if let Some(p) = &mut plot {
+                    p.push(session.dist(), d, meta.truth_place);
+                }
+                if !args.only_summary {
+                    session.write_decision(&mut w, d, &meta)?;
+                }
+            }
+        }
+        if let Some(bar) = &progress {
+            if reader.lines_read() % 4096 == 0 {
+                bar.set_position(reader.bytes_read());
+            }
+        }
+    }
+    if let Some(bar) = &progress {
+        bar.finish_and_clear();
+    }
+    let summary = tally.finish();
+    if args.only_summary {
+        write_summary(&summary, args.summary, &mut w)?;
+    }
+    w.flush()?;
+    drop(w);
+    if !args.only_summary {
+        let mut err = std::io::stderr().lock();
+        write_summary(&summary, args.summary, &mut err)?;
+    }
+    if let (Some(path), Some(p)) = (&args.plot, &plot) {
+        std::fs::write(path, p.to_svg()).map_err(|source| CliError::Read {
+            path: path.display().to_string(),
+            source,
+        })?;
+    }
+    Ok(if summary.rejected > 0 {
+        EXIT_REJECTED
+    } else {
+        EXIT_OK
+    })
+}
+
+fn write_summary(
+    s: &crate::report::Summary,
+    how: SummaryFormat,
+    out: &mut impl Write,
+) -> std::io::Result<()> {
+    match how {
+        SummaryFormat::Text => s.write_text(out),
+        SummaryFormat::Json => {
+            serde_json::to_writer_pretty(&mut *out, s).map_err(std::io::Error::from)?;
+            writeln!(out)
+        }
+        SummaryFormat::None => Ok(()),
+    }
+}

@@ -1,0 +1,144 @@
+//! The command line: `lplace check | explain | eval | simulate | extract`.
+//!
+//! Flags are handled in two stages, as in ripgrep: [`args`] parses the command line with clap
+//! into plain data, then each command module turns that into a ready-to-run command (files read,
+//! engine loaded) and runs it. Output goes to stdout, diagnostics and summaries to stderr.
+//!
+//! # Exit codes
+//! | code | meaning |
+//! |------|---------|
+//! | 0 | success (warnings may have been printed) |
+//! | 1 | failure: a file could not be read or written, or another runtime error |
+//! | 2 | bad arguments, or an input file (map, rules, frame) with errors |
+//! | 3 | finished, but some input records were rejected (each reported with its line) |
+//!
+//! A closed stdout (`lplace … | head`) ends the program quietly with code 0.
+
+pub mod args;
+mod check;
+mod eval;
+mod explain;
+mod extract;
+mod render;
+mod simulate;
+
+use std::io::Write;
+use std::process::ExitCode;
+
+/// Exit code: success.
+pub const EXIT_OK: u8 = 0;
+/// Exit code: runtime failure.
+pub const EXIT_FAILURE: u8 = 1;
+/// Exit code: bad arguments or input files.
+pub const EXIT_BAD_INPUT: u8 = 2;
+/// Exit code: finished with rejected records.
+pub const EXIT_REJECTED: u8 = 3;
+
+/// What went wrong in a command, and which exit code it maps to.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// A file could not be read.
+    #[error("cannot read `{path}`: {source}")]
+    Read {
+        /// The path.
+        path: String,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// Writing the output failed.
+    #[error("cannot write output: {0}")]
+    Write(#[from] std::io::Error),
+    /// Input files had errors; they have been printed already.
+    #[error("{count} problem(s) found")]
+    Diagnostics {
+        /// How many.
+        count: usize,
+    },
+    /// A bad argument value.
+    #[error("{0}")]
+    BadArgument(#[from] args::ArgError),
+}
+
+impl CliError {
+    fn exit_code(&self) -> u8 {
+        match self {
+            CliError::Read { .. } => EXIT_FAILURE,
+            CliError::Write(_) => EXIT_FAILURE,
+            CliError::Diagnostics { .. } | CliError::BadArgument(_) => EXIT_BAD_INPUT,
+        }
+    }
+}
+
+/// Runs the command line; returns the process exit code.
+pub fn main() -> ExitCode {
+    let cli = match args::parse(std::env::args_os()) {
+        Ok(cli) => cli,
+        Err(e) => {
+            // clap prints help/version to stdout (exit 0) and usage errors to stderr (exit 2).
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() {
+                EXIT_BAD_INPUT
+            } else {
+                EXIT_OK
+            });
+        }
+    };
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    let result = match cli.command {
+        args::Command::Check(a) => check::run(&a, &mut out),
+        args::Command::Explain(a) => explain::run(&a, &mut out),
+        args::Command::Eval(a) => eval::run(&a, &mut out),
+        args::Command::Simulate(a) => simulate::run(&a, &mut out),
+        args::Command::Extract(a) => extract::run(&a, &mut out),
+    };
+    let result = result.and_then(|code| out.flush().map(|_| code).map_err(CliError::Write));
+    match result {
+        Ok(code) => ExitCode::from(code),
+        Err(CliError::Write(e)) if e.kind() == std::io::ErrorKind::BrokenPipe => {
+            ExitCode::from(EXIT_OK)
+        }
+        Err(e) => {
+            if !matches!(e, CliError::Diagnostics { .. }) {
+                eprintln!("error: {e}");
+            }
+            ExitCode::from(e.exit_code())
+        }
+    }
+}
+
+/// Reads a file into a [`crate::syntax::diagnostic::SourceFile`] named as the user wrote it.
+fn read_source(path: &std::path::Path) -> Result<crate::syntax::diagnostic::SourceFile, CliError> {
+    let text = std::fs::read_to_string(path).map_err(|source| CliError::Read {
+        path: path.display().to_string(),
+        source,
+    })?;
+    Ok(crate::syntax::diagnostic::SourceFile::new(
+        path.display().to_string(),
+        text,
+    ))
+}
+
+/// Loads the engine named by `--map/--rules` (bundled office files for those not given),
+/// printing every diagnostic of the failing file.
+fn load_engine(
+    model: &args::ModelArgs,
+    opts: &crate::engine::CompileOptions,
+) -> Result<crate::engine::Engine, CliError> {
+    use crate::engine::{Engine, OFFICE_MAP, OFFICE_RULES};
+    use crate::syntax::diagnostic::SourceFile;
+    let map = match &model.map {
+        Some(p) => read_source(p)?,
+        None => SourceFile::new("maps/office.map (bundled)", OFFICE_MAP),
+    };
+    let rules = match &model.rules {
+        Some(p) => read_source(p)?,
+        None => SourceFile::new("rules/office.lpl (bundled)", OFFICE_RULES),
+    };
+    Engine::load_with(&map, &rules, opts).map_err(|e| {
+        render::eprint(&e.file, &e.diagnostics);
+        CliError::Diagnostics {
+            count: e.diagnostics.len(),
+        }
+    })
+}

@@ -1,0 +1,293 @@
+//! The engine: load a map and a rule file once, then step frame by frame.
+//!
+//! [`Engine::load`] parses, checks and compiles (`compile`), producing a [`tape::Tape`] whose
+//! output registers are the place supports. [`Engine::step`] evaluates the tape on one
+//! [`Frame`], builds the place distribution (`logic::possibility`) and decides
+//! (`logic::decision`) — into buffers allocated at load time, so a step allocates nothing and
+//! cannot panic on any frame. The interpreter (`interpret`) is the slow reference the tape is
+//! tested against. This module depends on `syntax`, `map` and `logic`; nothing in those depends
+//! on it.
+//!
+//! # Example
+//! ```
+//! use lplace::engine::Engine;
+//! let mut engine = Engine::office().expect("the bundled example loads");
+//! let mut frame = engine.new_frame();
+//! let table = engine.percepts();
+//! // The robot sees the beacon from 116° at 1.1 m, and walls North and East: place P2.
+//! frame.set(table.slot("beacon_angle", &[]).unwrap(), 0.9, Some(116.0));
+//! frame.set(table.slot("beacon_distance", &[]).unwrap(), 0.9, Some(1.1));
+//! frame.set(table.slot("sonar_wall", &["North"]).unwrap(), 0.8, None);
+//! frame.set(table.slot("laser_wall", &["East"]).unwrap(), 0.9, None);
+//! let decision = engine.step(&frame);
+//! assert_eq!(decision.place().map(|p| engine.map().places()[p].name.as_str()), Some("P2"));
+//! ```
+
+pub mod compile;
+pub mod frame;
+pub mod interpret;
+pub mod outcome;
+pub mod tape;
+pub mod tracker;
+
+pub use compile::{compile, CompileOptions, Compiled, Contribution, GroundAtom};
+pub use frame::{Frame, PerceptInstance, PerceptSlot, PerceptTable};
+pub use outcome::Outcome;
+
+use crate::logic::{clamp_degree, decide, Decision, DecisionParams, PlaceDistribution};
+use crate::map::Map;
+use crate::syntax::check::{check_map_against_rules, check_rules, RuleSet};
+use crate::syntax::diagnostic::{Diagnostic, SourceFile};
+use crate::syntax::{parse_map, parse_rules};
+use serde::{Deserialize, Serialize};
+
+/// The bundled example map (paper 003's office).
+pub const OFFICE_MAP: &str = include_str!("../../maps/office.map");
+/// The bundled example rules (paper 003's office).
+pub const OFFICE_RULES: &str = include_str!("../../rules/office.lpl");
+
+/// Which of the two input files a load error is about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FileRole {
+    /// The map file.
+    Map,
+    /// The rule file.
+    Rules,
+}
+
+/// Why an engine could not be loaded: the diagnostics of one file (all of them, not the first).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{} problem(s) in {} file `{}`", diagnostics.len(), match role { FileRole::Map => "map", FileRole::Rules => "rule" }, file.name)]
+pub struct LoadError {
+    /// Which file.
+    pub role: FileRole,
+    /// The file, for rendering the diagnostics.
+    pub file: SourceFile,
+    /// Every problem found.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Counts of repairs made to the last frame (see `frame` for the contract).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Sanitised {
+    /// Degrees that were NaN and read as missing (0).
+    pub nan_degrees: u32,
+    /// Degrees outside `[0, 1]` that were clamped.
+    pub clamped_degrees: u32,
+    /// Values that were infinite (NaN values mean "no value" and are not counted).
+    pub infinite_values: u32,
+}
+
+/// Place and room degrees of the last step.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RoomDegrees {
+    /// Support for `in_room(R)` derived by the rules.
+    pub support: Vec<f64>,
+    /// `Π(R) = max_{k ∈ R} π'_k`.
+    pub possibility: Vec<f64>,
+    /// `N(R) = 1 − max_{k ∉ R} π'_k`.
+    pub necessity: Vec<f64>,
+}
+
+/// A loaded, compiled rule set over a map, with the buffers one step needs.
+#[derive(Debug, Clone)]
+pub struct Engine {
+    map: Map,
+    rules: RuleSet,
+    compiled: Compiled,
+    regs: Vec<f64>,
+    dist: PlaceDistribution,
+    rooms: RoomDegrees,
+    decision: Decision,
+    sanitised: Sanitised,
+}
+
+impl Engine {
+    /// Parses, checks and compiles a map and a rule file.
+    pub fn load(map: &SourceFile, rules: &SourceFile) -> Result<Engine, LoadError> {
+        Self::load_with(map, rules, &CompileOptions::default())
+    }
+
+    /// [`Engine::load`] with compile options (trace, derived predicates).
+    pub fn load_with(
+        map: &SourceFile,
+        rules: &SourceFile,
+        opts: &CompileOptions,
+    ) -> Result<Engine, LoadError> {
+        let fail = |role, file: &SourceFile, diagnostics| LoadError {
+            role,
+            file: file.clone(),
+            diagnostics,
+        };
+        let map_ast = parse_map(&map.text).map_err(|d| fail(FileRole::Map, map, d))?;
+        let model = Map::from_ast(&map_ast).map_err(|d| fail(FileRole::Map, map, d))?;
+        let rule_ast = parse_rules(&rules.text).map_err(|d| fail(FileRole::Rules, rules, d))?;
+        let checked =
+            check_rules(&rule_ast, &model).map_err(|d| fail(FileRole::Rules, rules, d))?;
+        // Cross-file problems (a wall direction the rules' `Dir` lacks) live in the map's text.
+        let cross = check_map_against_rules(&model, &checked);
+        if cross.iter().any(Diagnostic::is_error) {
+            return Err(fail(FileRole::Map, map, cross));
+        }
+        Engine::new(model, checked, opts).map_err(|d| fail(FileRole::Rules, rules, d))
+    }
+
+    /// The bundled office example (`maps/office.map`, `rules/office.lpl`).
+    pub fn office() -> Result<Engine, LoadError> {
+        Self::load(
+            &SourceFile::new("maps/office.map", OFFICE_MAP),
+            &SourceFile::new("rules/office.lpl", OFFICE_RULES),
+        )
+    }
+
+    /// Compiles an already checked rule set over a map.
+    pub fn new(map: Map, rules: RuleSet, opts: &CompileOptions) -> Result<Engine, Vec<Diagnostic>> {
+        let compiled = compile(&rules, &map, opts)?;
+        let n = map.places().len();
+        let r = map.rooms().len();
+        let mut engine = Engine {
+            regs: vec![0.0; compiled.tape.len()],
+            dist: PlaceDistribution::new(n),
+            rooms: RoomDegrees {
+                support: vec![0.0; r],
+                possibility: vec![1.0; r],
+                necessity: vec![0.0; r],
+            },
+            decision: Decision::Disoriented(crate::logic::Disoriented::NoPlaces),
+            sanitised: Sanitised::default(),
+            map,
+            rules,
+            compiled,
+        };
+        let empty = engine.new_frame();
+        engine.step(&empty);
+        Ok(engine)
+    }
+
+    /// The map.
+    pub fn map(&self) -> &Map {
+        &self.map
+    }
+
+    /// The checked rule set.
+    pub fn rules(&self) -> &RuleSet {
+        &self.rules
+    }
+
+    /// The compiled form.
+    pub fn compiled(&self) -> &Compiled {
+        &self.compiled
+    }
+
+    /// The percept instances a frame can carry.
+    pub fn percepts(&self) -> &PerceptTable {
+        &self.compiled.percepts
+    }
+
+    /// A frame with every percept missing, sized for this engine.
+    pub fn new_frame(&self) -> Frame {
+        Frame::new(self.compiled.percepts.len())
+    }
+
+    /// Evaluates one frame and decides. Allocates nothing; never panics. A frame of the wrong
+    /// size reads its missing slots as missing percepts.
+    pub fn step(&mut self, frame: &Frame) -> Decision {
+        self.sanitised = Sanitised::default();
+        for &d in &frame.degree {
+            if d.is_nan() {
+                self.sanitised.nan_degrees += 1;
+            } else if !(0.0..=1.0).contains(&d) {
+                self.sanitised.clamped_degrees += 1;
+            }
+        }
+        self.sanitised.infinite_values =
+            frame.value.iter().filter(|v| v.is_infinite()).count() as u32;
+
+        self.compiled.tape.eval(frame, &mut self.regs);
+        let read =
+            |regs: &[f64], r: u32| clamp_degree(regs.get(r as usize).copied().unwrap_or(0.0));
+        for (k, &r) in self.compiled.support.iter().enumerate() {
+            self.dist.support[k] = read(&self.regs, r);
+        }
+        for (k, &r) in self.compiled.exclusion.iter().enumerate() {
+            self.dist.exclusion[k] = read(&self.regs, r);
+        }
+        let logic = self.rules.logic;
+        self.dist.update(logic.normalisation);
+        self.update_rooms();
+        self.decision = decide(
+            &self.dist,
+            DecisionParams {
+                threshold: logic.threshold,
+                margin: logic.margin,
+            },
+        );
+        self.decision
+    }
+
+    fn update_rooms(&mut self) {
+        let places = self.map.places();
+        for (ri, &reg) in self.compiled.rooms.iter().enumerate() {
+            self.rooms.support[ri] =
+                clamp_degree(self.regs.get(reg as usize).copied().unwrap_or(0.0));
+            let (mut inside, mut outside) = (0.0f64, 0.0f64);
+            for (k, p) in places.iter().enumerate() {
+                let pk = self.dist.possibility[k];
+                if p.room == Some(ri) {
+                    inside = inside.max(pk);
+                } else {
+                    outside = outside.max(pk);
+                }
+            }
+            self.rooms.possibility[ri] = inside;
+            self.rooms.necessity[ri] = 1.0 - outside;
+        }
+    }
+
+    /// The decision of the last step.
+    pub fn decision(&self) -> Decision {
+        self.decision
+    }
+
+    /// Supports, Π, N and Inc of the last step.
+    pub fn distribution(&self) -> &PlaceDistribution {
+        &self.dist
+    }
+
+    /// Room degrees of the last step.
+    pub fn rooms(&self) -> &RoomDegrees {
+        &self.rooms
+    }
+
+    /// Repairs made to the last frame.
+    pub fn sanitised(&self) -> Sanitised {
+        self.sanitised
+    }
+
+    /// Degree of each rule instance in the last step (empty unless loaded with `trace`).
+    pub fn trace(&self) -> impl Iterator<Item = (&Contribution, f64)> + '_ {
+        self.compiled
+            .contributions
+            .iter()
+            .map(|c| (c, self.regs.get(c.reg as usize).copied().unwrap_or(0.0)))
+    }
+
+    /// Degree of an asked-for derived atom in the last step.
+    pub fn derived(&self) -> impl Iterator<Item = (&GroundAtom, f64)> + '_ {
+        self.compiled
+            .derived
+            .iter()
+            .map(|(a, r)| (a, self.regs.get(*r as usize).copied().unwrap_or(0.0)))
+    }
+
+    /// The closed-form degree function of place `k`'s support, as `explain` prints it.
+    pub fn explain_place(&self, k: usize) -> Option<String> {
+        let r = *self.compiled.support.get(k)?;
+        Some(self.compiled.tape.render(r, &self.compiled.percepts))
+    }
+
+    /// A named, serialisable summary of the last step.
+    pub fn outcome(&self) -> Outcome {
+        Outcome::of(self)
+    }
+}

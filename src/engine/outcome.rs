@@ -1,0 +1,145 @@
+//! A step's result with names instead of indices: what `lplace eval` prints as JSON, and what an
+//! embedder logs. Building it allocates, so it is kept off `Engine::step`'s path.
+
+use super::Engine;
+use crate::logic::{Decision, Disoriented};
+use serde::{Deserialize, Serialize};
+
+/// Degrees of one place in one step.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlaceDegrees {
+    /// Place name.
+    pub place: String,
+    /// `α`: support for `at_place`.
+    pub support: f64,
+    /// `β`: support for `!at_place`.
+    pub exclusion: f64,
+    /// `Π` after normalisation.
+    pub possibility: f64,
+    /// `N`.
+    pub necessity: f64,
+}
+
+/// Degrees of one room in one step.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RoomOutcome {
+    /// Room name.
+    pub room: String,
+    /// Support for `in_room` from the rules.
+    pub support: f64,
+    /// `Π(R)`.
+    pub possibility: f64,
+    /// `N(R)`.
+    pub necessity: f64,
+}
+
+/// One fired rule instance.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Fired {
+    /// 1-based rule number in the file.
+    pub rule: usize,
+    /// Hypothesis place of the instance.
+    pub context: String,
+    /// Schema binding, `var=value`.
+    pub binding: Vec<String>,
+    /// The conclusion, `!` for negated.
+    pub head: String,
+    /// The degree it yielded.
+    pub degree: f64,
+}
+
+/// A step's decision and degrees, by name.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Outcome {
+    /// `place` or `disoriented`.
+    pub outcome: &'static str,
+    /// The chosen place, if any.
+    pub place: Option<String>,
+    /// Its necessity.
+    pub necessity: Option<f64>,
+    /// Why no place was chosen (`nothing_above_threshold`, `too_close`, `inconsistent`, `no_places`).
+    pub reason: Option<&'static str>,
+    /// For `too_close`: the best place and the runner-up.
+    pub candidates: Vec<String>,
+    /// `Inc`.
+    pub inconsistency: f64,
+    /// Per place, in map order.
+    pub places: Vec<PlaceDegrees>,
+    /// Per room, in map order.
+    pub rooms: Vec<RoomOutcome>,
+    /// Rule instances with a positive degree (only when loaded with trace).
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub fired: Vec<Fired>,
+}
+
+impl Outcome {
+    /// Summarises `engine`'s last step.
+    pub fn of(engine: &Engine) -> Outcome {
+        let places = engine.map().places();
+        let name = |k: usize| {
+            places
+                .get(k)
+                .map_or_else(|| format!("#{k}"), |p| p.name.clone())
+        };
+        let d = engine.distribution();
+        let (outcome, place, necessity, reason, candidates) = match engine.decision() {
+            Decision::Place { place, necessity } => {
+                ("place", Some(name(place)), Some(necessity), None, vec![])
+            }
+            Decision::Disoriented(why) => {
+                let (reason, candidates) = match why {
+                    Disoriented::NothingAboveThreshold { best, .. } => {
+                        ("nothing_above_threshold", vec![name(best)])
+                    }
+                    Disoriented::TooClose {
+                        best, runner_up, ..
+                    } => ("too_close", vec![name(best), name(runner_up)]),
+                    Disoriented::Inconsistent { .. } => ("inconsistent", vec![]),
+                    Disoriented::NoPlaces => ("no_places", vec![]),
+                };
+                ("disoriented", None, None, Some(reason), candidates)
+            }
+        };
+        let rooms = engine.rooms();
+        Outcome {
+            outcome,
+            place,
+            necessity,
+            reason,
+            candidates,
+            inconsistency: d.inconsistency,
+            places: (0..d.len())
+                .map(|k| PlaceDegrees {
+                    place: name(k),
+                    support: d.support[k],
+                    exclusion: d.exclusion[k],
+                    possibility: d.possibility[k],
+                    necessity: d.necessity[k],
+                })
+                .collect(),
+            rooms: engine
+                .map()
+                .rooms()
+                .iter()
+                .enumerate()
+                .map(|(r, room)| RoomOutcome {
+                    room: room.name.clone(),
+                    support: rooms.support[r],
+                    possibility: rooms.possibility[r],
+                    necessity: rooms.necessity[r],
+                })
+                .collect(),
+            fired: engine
+                .trace()
+                .filter(|(_, deg)| *deg > 0.0)
+                .map(|(c, deg)| Fired {
+                    rule: c.rule + 1,
+                    context: name(c.context),
+                    binding: c.binding.iter().map(|(v, x)| format!("{v}={x}")).collect(),
+                    head: format!("{}{}", if c.negated { "!" } else { "" }, c.head),
+                    degree: deg,
+                })
+                .collect(),
+        }
+    }
+}

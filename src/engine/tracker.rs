@@ -1,0 +1,434 @@
+//! Tracking over time (DESIGN §3 "Over time"): place possibilities carried along the map graph
+//! from frame to frame, gated by odometry against path lengths, then intersected with each
+//! frame's evidence — paper 000's "blur, then intersect" cycle on the topological graph, and
+//! paper 003's "odometry used for consistency checks with the metrics of the map".
+//!
+//! # The model
+//! The tracker keeps, per place `i`, an **anchor**: a possibility `m_i` that the robot was at
+//! `P_i` when it last had evidence of it, and the odometry distance `s_i` travelled since then.
+//! Each step, with `ds` the length of the odometry increment and `e_j` the frame's normalised
+//! possibility `Π'_j`, `α_j` its support:
+//!
+//! ```text
+//! s_i  ← s_i + ds
+//! R_ij = μ(s_i; L'_ij)                   trapezoid centred on L'_ij, the shortest path length
+//!                                         between P_i and P_j less the radii of both extents
+//!                                         (evidence starts at the edge of a place, not its centre)
+//! pred_j = max_i min(m_i, R_ij)          blur: carried along the graph
+//! c_j    = T(max(pred_j, b), e_j)        intersect with the evidence; b is the bias floor
+//! π'_j   = c_j / max c                   (product normalisation; min-based selectable)
+//! N_j    = 1 − max_{k≠j} π'_k,   Inc = 1 − max c
+//! ```
+//!
+//! When `max c` falls below `conflict`, belief and evidence do not overlap; as paper 000 does
+//! for incompatible fuzzy sets, the tracker then keeps their union, `c_j = max(pred_j, e_j)`, and
+//! reports the conflict as `Inc` (so the frame is *disoriented, inconsistent*).
+//!
+//! The **bias floor** `b` (paper 000's trapezoid bias: the possibility that the belief is "somewhere
+//! else") keeps every place possible to degree `b`, so evidence that contradicts the carried belief
+//! — a kidnap — wins within a frame or two instead of being vetoed forever.
+//!
+//! Anchors are then revised: each is intersected with how well the frame agrees with it
+//! (`max(1 − max_j α_j, max_j min(R_ij, e_j))`: the robot is between places, or at a place the
+//! anchor predicts), floored by `b`; a place whose support reaches `anchor_support` re-anchors
+//! (`m_j = π'_j`, `s_j = 0`); the anchors are renormalised to height 1. A tracked decision is
+//! the rule file's decision (threshold, margin) on `π'`, `N`, `Inc`, except that it is
+//! *disoriented, nothing above threshold* when no place has support `≥ min_support` in the
+//! frame: tracking sharpens evidence, it does not announce a place from odometry alone.
+//!
+//! `step` allocates nothing and cannot panic: all buffers are sized at construction, and
+//! evidence of the wrong length reads its missing places as "no evidence". Depends on `logic`
+//! and `map` (path lengths, extents) only.
+
+use crate::io::record::Odometry;
+use crate::logic::{
+    clamp_degree, decide, Decision, DecisionParams, Disoriented, Normalisation, PlaceDistribution,
+    TNorm, Trapezoid,
+};
+use crate::map::{Extent, Map};
+use serde::{Deserialize, Serialize};
+
+/// Tracker parameters, loadable from RON (every field optional; defaults below).
+///
+/// ```ron
+/// (bias: 0.1, tnorm: product, tolerance: 0.8, tolerance_rel: 0.1, slope: 1.0, slope_rel: 0.1,
+///  anchor_support: 0.5, min_support: 0.3, normalisation: product, conflict: 0.3)
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TrackerConfig {
+    /// Bias floor `b` under the carried belief (default 0.1).
+    pub bias: f64,
+    /// T-norm intersecting carried belief and evidence (default product).
+    pub tnorm: TNorm,
+    /// Half-width of the core of `R_ij`, metres: odometry within this of the path length is a
+    /// full match (default 0.8).
+    pub tolerance: f64,
+    /// Extra half-core per metre of path (odometry drifts with distance; default 0.1).
+    pub tolerance_rel: f64,
+    /// Run of each slope of `R_ij`, metres (default 1.0).
+    pub slope: f64,
+    /// Extra slope per metre of path (default 0.1).
+    pub slope_rel: f64,
+    /// Support at which a place re-anchors (default 0.5).
+    pub anchor_support: f64,
+    /// Support some place needs in a frame for the tracker to choose any place (default 0.3).
+    pub min_support: f64,
+    /// Normalisation of the tracked distribution (default product).
+    pub normalisation: Normalisation,
+    /// Height of the intersection below which belief and evidence are taken not to overlap,
+    /// and their union is used instead (paper 000's rule for incompatible sets; default 0.3).
+    pub conflict: f64,
+}
+
+impl Default for TrackerConfig {
+    fn default() -> Self {
+        TrackerConfig {
+            bias: 0.1,
+            tnorm: TNorm::Product,
+            tolerance: 0.8,
+            tolerance_rel: 0.1,
+            slope: 1.0,
+            slope_rel: 0.1,
+            anchor_support: 0.5,
+            min_support: 0.3,
+            normalisation: Normalisation::Product,
+            conflict: 0.3,
+        }
+    }
+}
+
+/// Why a tracker configuration could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum TrackerConfigError {
+    /// Not valid RON for [`TrackerConfig`].
+    #[error("tracker config: {0}")]
+    Ron(#[from] ron::error::SpannedError),
+    /// A value out of its range.
+    #[error("tracker config: `{field}` = {value} is out of range ({range})")]
+    Range {
+        /// The field.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+        /// The allowed range.
+        range: &'static str,
+    },
+}
+
+impl TrackerConfig {
+    /// Parses and validates a RON configuration.
+    pub fn from_ron(text: &str) -> Result<TrackerConfig, TrackerConfigError> {
+        let c: TrackerConfig = ron::from_str(text)?;
+        c.validate()?;
+        Ok(c)
+    }
+
+    /// Checks every field's range.
+    pub fn validate(&self) -> Result<(), TrackerConfigError> {
+        let unit = [
+            ("bias", self.bias),
+            ("anchor_support", self.anchor_support),
+            ("min_support", self.min_support),
+            ("conflict", self.conflict),
+        ];
+        for (field, value) in unit {
+            if !(0.0..=1.0).contains(&value) {
+                return Err(TrackerConfigError::Range {
+                    field,
+                    value,
+                    range: "[0, 1]",
+                });
+            }
+        }
+        let lengths = [
+            ("tolerance", self.tolerance),
+            ("tolerance_rel", self.tolerance_rel),
+            ("slope", self.slope),
+            ("slope_rel", self.slope_rel),
+        ];
+        for (field, value) in lengths {
+            if !(value >= 0.0 && value.is_finite()) {
+                return Err(TrackerConfigError::Range {
+                    field,
+                    value,
+                    range: "finite, ≥ 0",
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The tracker's running state, for saving and restoring a belief across restarts.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrackerState {
+    /// Anchor possibility per place.
+    pub anchor: Vec<f64>,
+    /// Odometry distance since each anchor, metres.
+    pub since: Vec<f64>,
+}
+
+/// Distances are capped so that they never overflow (far beyond any map's diameter).
+const MAX_DISTANCE: f64 = 1e9;
+
+/// Carries place possibilities along the map graph. See the module docs.
+#[derive(Debug, Clone)]
+pub struct Tracker {
+    cfg: TrackerConfig,
+    params: DecisionParams,
+    n: usize,
+    /// `L'_ij`, row-major.
+    lengths: Vec<f64>,
+    /// `R_ij`'s shape per pair (core and slope depend on the path length).
+    shapes: Vec<Trapezoid>,
+    anchor: Vec<f64>,
+    since: Vec<f64>,
+    pred: Vec<f64>,
+    dist: PlaceDistribution,
+    decision: Decision,
+}
+
+/// Rough radius of a place's extent: where its evidence starts along a path.
+fn extent_radius(e: Extent) -> f64 {
+    match e {
+        Extent::Radius(r) => r.max(0.0),
+        Extent::Box { x0, y0, x1, y1 } => 0.25 * ((x1 - x0).abs() + (y1 - y0).abs()),
+    }
+}
+
+impl Tracker {
+    /// A tracker over `map`, deciding with `params` (the rule file's threshold and margin).
+    pub fn new(map: &Map, params: DecisionParams, cfg: TrackerConfig) -> Tracker {
+        let places = map.places();
+        let n = places.len();
+        let mut lengths = vec![0.0; n * n];
+        let mut shapes = vec![Trapezoid::default(); n * n];
+        for i in 0..n {
+            for j in 0..n {
+                let l = map.path_length(i, j);
+                let l = if i == j {
+                    0.0
+                } else {
+                    (l - extent_radius(places[i].extent) - extent_radius(places[j].extent)).max(0.0)
+                };
+                lengths[i * n + j] = l;
+                let lf = if l.is_finite() { l } else { 0.0 };
+                shapes[i * n + j] = Trapezoid {
+                    core: 2.0 * (cfg.tolerance + cfg.tolerance_rel * lf),
+                    slope: cfg.slope + cfg.slope_rel * lf,
+                    height: 1.0,
+                    bias: 0.0,
+                    period: None,
+                };
+            }
+        }
+        let mut t = Tracker {
+            cfg,
+            params,
+            n,
+            lengths,
+            shapes,
+            anchor: vec![1.0; n],
+            since: vec![0.0; n],
+            pred: vec![1.0; n],
+            dist: PlaceDistribution::new(n),
+            decision: Decision::Disoriented(Disoriented::NoPlaces),
+        };
+        t.reset();
+        t
+    }
+
+    /// Forgets everything: every place equally possible.
+    pub fn reset(&mut self) {
+        self.anchor.fill(1.0);
+        self.since.fill(0.0);
+        self.pred.fill(1.0);
+        self.dist = PlaceDistribution::new(self.n);
+        self.decision = if self.n == 0 {
+            Decision::Disoriented(Disoriented::NoPlaces)
+        } else {
+            Decision::Disoriented(Disoriented::NothingAboveThreshold {
+                best: 0,
+                support: 0.0,
+            })
+        };
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &TrackerConfig {
+        &self.cfg
+    }
+
+    /// `R_ij` at the current distance from anchor `i`.
+    #[inline]
+    fn reach(&self, i: usize, j: usize) -> f64 {
+        let k = i * self.n + j;
+        let l = self.lengths[k];
+        if !l.is_finite() {
+            return 0.0;
+        }
+        self.shapes[k].degree(self.since[i], l)
+    }
+
+    /// One frame: carries the belief by the odometry increment, intersects it with `evidence`
+    /// (the engine's distribution for this frame) and decides. Allocates nothing.
+    pub fn step(&mut self, evidence: &PlaceDistribution, odometry: Odometry) -> Decision {
+        let n = self.n;
+        let b = clamp_degree(self.cfg.bias);
+        let t = self.cfg.tnorm;
+        let ds = odometry.dx.hypot(odometry.dy);
+        let ds = if ds.is_finite() { ds } else { 0.0 };
+        for s in &mut self.since {
+            *s = (*s + ds).min(MAX_DISTANCE);
+        }
+        let ev =
+            |v: &[f64], j: usize, missing: f64| clamp_degree(v.get(j).copied().unwrap_or(missing));
+
+        // Blur: carry each anchor along the graph.
+        for j in 0..n {
+            let mut p = 0.0f64;
+            for i in 0..n {
+                p = p.max(self.anchor[i].min(self.reach(i, j)));
+            }
+            self.pred[j] = p;
+        }
+
+        // Intersect with the evidence.
+        let mut h = 0.0f64;
+        let mut max_support = 0.0f64;
+        for j in 0..n {
+            let e = ev(&evidence.possibility, j, 1.0);
+            let a = ev(&evidence.support, j, 0.0);
+            max_support = max_support.max(a);
+            let c = t.apply(self.pred[j].max(b), e);
+            self.dist.support[j] = a;
+            self.dist.exclusion[j] = ev(&evidence.exclusion, j, 0.0);
+            self.dist.possibility_raw[j] = c;
+            h = h.max(c);
+        }
+        self.dist.height = h;
+        self.dist.inconsistency = 1.0 - h;
+        if h < self.cfg.conflict {
+            // Belief and evidence do not overlap: keep both (their union) rather than the
+            // little their intersection leaves, so that the next frames can tell which was right.
+            h = 0.0;
+            for j in 0..n {
+                let c = self.pred[j].max(ev(&evidence.possibility, j, 1.0));
+                self.dist.possibility_raw[j] = c;
+                h = h.max(c);
+            }
+        }
+        let (mut first, mut second, mut best) = (f64::NEG_INFINITY, f64::NEG_INFINITY, usize::MAX);
+        for j in 0..n {
+            let c = self.dist.possibility_raw[j];
+            let p = if h <= 0.0 {
+                1.0
+            } else {
+                match self.cfg.normalisation {
+                    Normalisation::Product => (c / h).min(1.0),
+                    Normalisation::Min => {
+                        if c >= h {
+                            1.0
+                        } else {
+                            c
+                        }
+                    }
+                }
+            };
+            self.dist.possibility[j] = p;
+            if p > first {
+                second = first;
+                first = p;
+                best = j;
+            } else if p > second {
+                second = p;
+            }
+        }
+        for j in 0..n {
+            let other = if j == best { second } else { first };
+            self.dist.necessity[j] = 1.0 - other.max(0.0);
+        }
+
+        // Revise the anchors: keep those the frame agrees with, re-anchor supported places.
+        let between = 1.0 - max_support;
+        for i in 0..n {
+            let mut compat = between;
+            for j in 0..n {
+                compat = compat.max(self.reach(i, j).min(self.dist.possibility[j].min(ev(
+                    &evidence.possibility,
+                    j,
+                    1.0,
+                ))));
+            }
+            self.anchor[i] = t.apply(self.anchor[i], compat.max(b));
+        }
+        for j in 0..n {
+            if ev(&evidence.support, j, 0.0) >= self.cfg.anchor_support {
+                self.anchor[j] = self.dist.possibility[j];
+                self.since[j] = 0.0;
+            }
+        }
+        let top = self.anchor.iter().copied().fold(0.0, f64::max);
+        if top > 0.0 {
+            for m in &mut self.anchor {
+                *m /= top;
+            }
+        } else {
+            self.anchor.fill(1.0);
+            self.since.fill(0.0);
+        }
+
+        self.decision = decide(&self.dist, self.params);
+        if max_support < self.cfg.min_support {
+            if let Decision::Place { place, .. } = self.decision {
+                self.decision = Decision::Disoriented(Disoriented::NothingAboveThreshold {
+                    best: place,
+                    support: ev(&evidence.support, place, 0.0),
+                });
+            }
+        }
+        self.decision
+    }
+
+    /// The tracked distribution of the last step (support and exclusion are the evidence's).
+    pub fn distribution(&self) -> &PlaceDistribution {
+        &self.dist
+    }
+
+    /// The decision of the last step.
+    pub fn decision(&self) -> Decision {
+        self.decision
+    }
+
+    /// The carried (predicted) possibility of each place before the last frame's evidence.
+    pub fn predicted(&self) -> &[f64] {
+        &self.pred
+    }
+
+    /// A copy of the running state.
+    pub fn state(&self) -> TrackerState {
+        TrackerState {
+            anchor: self.anchor.clone(),
+            since: self.since.clone(),
+        }
+    }
+
+    /// Restores a saved state; a state for a different number of places is ignored (`false`).
+    pub fn restore(&mut self, state: &TrackerState) -> bool {
+        if state.anchor.len() != self.n || state.since.len() != self.n {
+            return false;
+        }
+        for (d, s) in self.anchor.iter_mut().zip(&state.anchor) {
+            *d = clamp_degree(*s);
+        }
+        for (d, s) in self.since.iter_mut().zip(&state.since) {
+            *d = if s.is_finite() && *s >= 0.0 {
+                s.min(MAX_DISTANCE)
+            } else {
+                0.0
+            };
+        }
+        true
+    }
+}

@@ -1,0 +1,300 @@
+//! CARMEN log → percept stream: one [`FrameRecord`] per `FLASER` scan, with the raw odometry
+//! increment since the previous scan, the percepts of the scan extractors
+//! ([`crate::percept::ScanExtractor`]: `laser_wall(Front)`, `laser_corner(Front)`,
+//! `sonar_wall(Left|Right)`; [`crate::percept::layout`]: `corridor_width`, `side_openings`) and,
+//! when a map is given, the ground truth. Library code behind `lplace extract --from carmen`;
+//! like the readers it does no I/O of its own.
+//!
+//! # Odometry
+//! In the corrected logs a scan's `x y theta` *and* `odom_x odom_y odom_theta` both hold the
+//! SLAM-corrected pose; the raw odometry survives only in the `ODOM` lines, re-chained from the
+//! last scan's pose (data README). The increment between scans k and k+1 is therefore
+//! `(last ODOM before scan k+1) ⊖ (odom pose of scan k)`, expressed in the robot frame of scan
+//! k. The same formula is right for raw logs, where both are in the odometry frame. Without an
+//! `ODOM` in between, the two scans' odom poses are used. The first frame has no odometry.
+//!
+//! The side-wall fits of eq. (4) place readings in one frame by *integrating these raw
+//! increments*, never by the corrected pose, so no ground truth leaks into the percepts.
+//!
+//! # Time
+//! `t` is the scan's `ipc_ts`, held non-decreasing (a scan stamped earlier than the one before
+//! it keeps the previous time).
+//!
+//! # Truth
+//! With places given, `truth.place` is the first place, in map order, whose extent holds the
+//! corrected pose (none when no extent does) and `truth.pose` is that pose in metres and
+//! degrees. Overlapping extents are resolved by declaration order, so a map lists its small
+//! places (doorways, junctions) before the larger ones around them.
+
+use std::io::BufRead;
+
+use crate::io::carmen::{CarmenError, CarmenMessage, CarmenReader, CarmenStats, LaserScan};
+use crate::io::record::{
+    FrameRecord, Odometry, PerceptRecord as WireRecord, Truth, FORMAT_VERSION,
+};
+use crate::map::Place;
+use crate::percept::compass::CompassTracker;
+use crate::percept::layout::layout;
+use crate::percept::sonar_wall::Pose2;
+use crate::percept::{ConfigError, ExtractConfig, PerceptArg, PerceptRecord, ScanExtractor, Side};
+
+/// Turns CARMEN messages into frame records, one per scan. Feed it every message in log order
+/// with [`CarmenFramer::push`].
+#[derive(Debug, Clone)]
+pub struct CarmenFramer<'m> {
+    extractor: ScanExtractor,
+    /// Axis-locked heading and compass free ranges, when enabled in the config.
+    compass: Option<CompassTracker>,
+    places: Option<&'m [Place]>,
+    /// Odom pose of the previous scan.
+    prev_scan_odom: Option<Pose2>,
+    /// Last `ODOM` pose since the previous scan.
+    last_odom: Option<Pose2>,
+    /// Integrated raw odometry: the robot's own idea of where it is.
+    dead_reckoning: Pose2,
+    /// Largest scan time so far.
+    last_t: f64,
+    frames: u64,
+}
+
+impl<'m> CarmenFramer<'m> {
+    /// A framer with extractor parameters `cfg`; `places` (from a map) enables ground truth.
+    ///
+    /// # Errors
+    /// [`ConfigError`] when a parameter is out of range.
+    pub fn new(cfg: ExtractConfig, places: Option<&'m [Place]>) -> Result<Self, ConfigError> {
+        Ok(CarmenFramer {
+            extractor: ScanExtractor::new(cfg)?,
+            compass: if cfg.compass.enabled {
+                Some(CompassTracker::new(cfg.compass)?)
+            } else {
+                None
+            },
+            places,
+            prev_scan_odom: None,
+            last_odom: None,
+            dead_reckoning: Pose2::default(),
+            last_t: f64::NEG_INFINITY,
+            frames: 0,
+        })
+    }
+
+    /// Frames produced so far.
+    pub fn frames(&self) -> u64 {
+        self.frames
+    }
+
+    /// Takes the next message; returns a frame for each `FLASER`. `laser_offset` is
+    /// `PARAM robot_frontlaser_offset` (see [`CarmenReader::laser_offset`]).
+    pub fn push(&mut self, msg: &CarmenMessage, laser_offset: f64) -> Option<FrameRecord> {
+        match msg {
+            CarmenMessage::Odom(o) => {
+                self.last_odom = Some(o.pose);
+                None
+            }
+            CarmenMessage::Param { .. } => None,
+            CarmenMessage::Laser(scan) => Some(self.frame(scan, laser_offset)),
+        }
+    }
+
+    fn frame(&mut self, scan: &LaserScan, laser_offset: f64) -> FrameRecord {
+        let odometry = self.prev_scan_odom.map(|prev| {
+            let now = self.last_odom.unwrap_or(scan.odom_pose);
+            relative(&prev, &now)
+        });
+        if let Some(inc) = odometry {
+            self.dead_reckoning = compose(&self.dead_reckoning, &inc);
+        }
+        self.prev_scan_odom = Some(scan.odom_pose);
+        self.last_odom = None;
+
+        let mut view = scan.view(laser_offset);
+        view.pose = self.dead_reckoning;
+        let mut percepts: Vec<WireRecord> = self.extractor.step(&view).iter().map(wire).collect();
+        for r in layout(&view, &self.extractor.config().layout) {
+            percepts.push(WireRecord {
+                name: r.name.to_owned(),
+                args: Vec::new(),
+                value: r.value,
+                degree: r.degree,
+            });
+        }
+        if let Some(compass) = self.compass.as_mut() {
+            for r in compass.step(&view, odometry.as_ref(), scan.odom_pose.theta) {
+                percepts.push(WireRecord {
+                    name: "free_range".to_owned(),
+                    args: vec![r.direction.to_owned()],
+                    value: r.value,
+                    degree: r.degree,
+                });
+            }
+        }
+        let truth = self.places.map(|places| {
+            let p = scan.pose;
+            Truth {
+                place: places
+                    .iter()
+                    .find(|pl| pl.contains(p.x, p.y))
+                    .map(|pl| pl.name.clone()),
+                pose: Some([p.x, p.y, wrap_deg(p.theta.to_degrees())]),
+            }
+        });
+        self.frames += 1;
+        // Scan `ipc_ts` occasionally steps back by a fraction of a second (4 times in the Intel
+        // log) although lines are in chronological order (data README), and a stream's time
+        // must not go backwards: such a scan keeps the previous time.
+        self.last_t = self.last_t.max(scan.timestamp);
+        FrameRecord {
+            version: Some(FORMAT_VERSION),
+            t: Some(self.last_t),
+            odometry: odometry.map(|p| Odometry {
+                dx: p.x,
+                dy: p.y,
+                dtheta: wrap_deg(p.theta.to_degrees()),
+            }),
+            percepts,
+            truth,
+        }
+    }
+}
+
+/// The wire form of an extractor record: sides become the constants `Front`, `Left`, `Right`
+/// (rule-file constants are capitalised), landmark ids their decimal text.
+fn wire(r: &PerceptRecord) -> WireRecord {
+    let args = match r.arg {
+        PerceptArg::None => Vec::new(),
+        PerceptArg::Side(Side::Front) => vec!["Front".to_owned()],
+        PerceptArg::Side(Side::Left) => vec!["Left".to_owned()],
+        PerceptArg::Side(Side::Right) => vec!["Right".to_owned()],
+        PerceptArg::Landmark(id) => vec![id.to_string()],
+    };
+    WireRecord {
+        name: r.kind.as_str().to_owned(),
+        args,
+        value: r.value,
+        degree: r.degree,
+    }
+}
+
+/// `b ⊖ a`: pose `b` in the frame of pose `a` (radians).
+pub fn relative(a: &Pose2, b: &Pose2) -> Pose2 {
+    let (s, c) = a.theta.sin_cos();
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
+    Pose2 {
+        x: c * dx + s * dy,
+        y: -s * dx + c * dy,
+        theta: wrap_rad(b.theta - a.theta),
+    }
+}
+
+/// `a ⊕ d`: increment `d` (in `a`'s frame) applied to `a`.
+pub fn compose(a: &Pose2, d: &Pose2) -> Pose2 {
+    let (s, c) = a.theta.sin_cos();
+    Pose2 {
+        x: a.x + c * d.x - s * d.y,
+        y: a.y + s * d.x + c * d.y,
+        theta: wrap_rad(a.theta + d.theta),
+    }
+}
+
+fn wrap_rad(a: f64) -> f64 {
+    let pi = std::f64::consts::PI;
+    let w = (a + pi).rem_euclid(2.0 * pi) - pi;
+    if w == -pi {
+        pi
+    } else {
+        w
+    }
+}
+
+/// Degrees wrapped into `(−180, 180]`.
+fn wrap_deg(a: f64) -> f64 {
+    let w = (a + 180.0).rem_euclid(360.0) - 180.0;
+    if w == -180.0 {
+        180.0
+    } else {
+        w
+    }
+}
+
+/// What a whole conversion did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ConvertSummary {
+    /// Frames written.
+    pub frames: u64,
+    /// The reader's counts (lines, messages, rejected lines, skipped message types).
+    pub stats: CarmenStats,
+}
+
+/// Converts a whole log: every frame goes to `on_frame` (which may fail, e.g. on a closed
+/// pipe, and then stops the conversion), every malformed line to `on_error`, after which the
+/// conversion goes on with the next line.
+///
+/// # Errors
+/// Whatever `on_frame` returns.
+pub fn convert<R: BufRead, E>(
+    source: R,
+    framer: &mut CarmenFramer<'_>,
+    mut on_frame: impl FnMut(FrameRecord) -> Result<(), E>,
+    mut on_error: impl FnMut(&CarmenError),
+) -> Result<ConvertSummary, E> {
+    let mut reader = CarmenReader::new(source);
+    let mut frames = 0;
+    while let Some(item) = reader.next() {
+        match item {
+            Ok((_, msg)) => {
+                if let Some(frame) = framer.push(&msg, reader.laser_offset()) {
+                    frames += 1;
+                    on_frame(frame)?;
+                }
+            }
+            Err(e) => on_error(&e),
+        }
+    }
+    Ok(ConvertSummary {
+        frames,
+        stats: reader.stats().clone(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn relative_and_compose_are_inverse() {
+        let a = Pose2 {
+            x: 1.0,
+            y: -2.0,
+            theta: 2.5,
+        };
+        let b = Pose2 {
+            x: -0.5,
+            y: 3.0,
+            theta: -2.9,
+        };
+        let d = relative(&a, &b);
+        let back = compose(&a, &d);
+        assert!((back.x - b.x).abs() < 1e-12 && (back.y - b.y).abs() < 1e-12);
+        assert!((back.theta - b.theta).abs() < 1e-12);
+    }
+
+    #[test]
+    fn increment_is_in_the_previous_robot_frame() {
+        // Facing +y, the robot moves 1 m along +y: 1 m forward.
+        let a = Pose2 {
+            x: 0.0,
+            y: 0.0,
+            theta: std::f64::consts::FRAC_PI_2,
+        };
+        let b = Pose2 {
+            x: 0.0,
+            y: 1.0,
+            theta: std::f64::consts::FRAC_PI_2,
+        };
+        let d = relative(&a, &b);
+        assert!((d.x - 1.0).abs() < 1e-12 && d.y.abs() < 1e-12 && d.theta.abs() < 1e-12);
+        assert_eq!(wrap_deg(540.0), 180.0);
+        assert_eq!(wrap_deg(-190.0), 170.0);
+    }
+}

@@ -1,0 +1,961 @@
+//! Percept streams: a log of frames read one line at a time, straight into the engine's dense
+//! [`Frame`], with every bad record turned into a typed [`Rejection`] carrying its line number.
+//!
+//! Two wire forms carry the same content (see `notes/streams.md` for the schema):
+//! - **JSON Lines** — one [`crate::io::record::FrameRecord`] object per line;
+//! - **CSV** — a header naming the columns, then one frame per row (see [`crate::io::csv`]).
+//!
+//! The reader ([`StreamReader`]) pulls lines from a caller-supplied [`BufRead`]: it never holds
+//! more than one line, reuses its line buffer, name buffers and the caller's frame, and looks
+//! percept names up in a [`Schema`] built once. JSON is deserialized with a hand-written serde
+//! seed that writes each percept into its slot as it is parsed, so the steady state allocates
+//! nothing per frame (only a rejected record allocates, to describe itself).
+//!
+//! # What is rejected (each reported, counted; the whole record is skipped)
+//! A line that is not a record of the right shape, a format version other than
+//! [`FORMAT_VERSION`], a percept the rule file does not declare, a NaN (JSON has no NaN, so the
+//! strings `"NaN"`/`"nan"` are read as NaN in order to *report* them; CSV `nan` likewise), a degree
+//! outside `[0, 1]`, an infinite value, a percept given twice, a time earlier than the previous
+//! accepted record's, non-finite odometry, an unknown truth place, and lines longer than
+//! [`MAX_LINE`]. A skipped record contributes nothing — not even its odometry. Blank lines are
+//! ignored (they are not records).
+//!
+//! Depends on `engine::frame` (the target), `io::record` (the wire types), `map` (truth place
+//! names) and serde/serde_json; nothing here does I/O beyond reading the given `BufRead`.
+
+use crate::engine::{Frame, PerceptSlot, PerceptTable};
+use crate::io::csv::CsvLayout;
+use crate::io::record::{Odometry, FORMAT_VERSION};
+use crate::map::Map;
+use serde::de::{self, DeserializeSeed, IgnoredAny, MapAccess, SeqAccess, Visitor};
+use serde::Deserialize;
+use std::fmt;
+use std::io::{BufRead, Read};
+
+/// Longest line accepted, in bytes; a longer line is rejected (and skipped) without being held in
+/// memory, so that memory stays flat on any input.
+pub const MAX_LINE: usize = 1 << 20;
+
+/// The wire form of a stream.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StreamFormat {
+    /// One JSON record per line.
+    JsonLines,
+    /// A header row, then one frame per row.
+    Csv,
+}
+
+impl StreamFormat {
+    /// The form a path's extension suggests: `.csv` is CSV, anything else JSON Lines.
+    pub fn from_path(path: &std::path::Path) -> StreamFormat {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some(e) if e.eq_ignore_ascii_case("csv") => StreamFormat::Csv,
+            _ => StreamFormat::JsonLines,
+        }
+    }
+}
+
+/// Names a stream may use, resolved once: percept instances to slots, truth places to indices.
+#[derive(Debug, Clone)]
+pub struct Schema {
+    groups: Vec<NameGroup>,
+    places: Vec<String>,
+    slots: usize,
+}
+
+#[derive(Debug, Clone)]
+struct NameGroup {
+    name: String,
+    instances: Vec<(Vec<String>, PerceptSlot)>,
+}
+
+impl Schema {
+    /// The schema of an engine's percept table and map.
+    pub fn new(table: &PerceptTable, map: &Map) -> Schema {
+        let places = map.places().iter().map(|p| p.name.clone()).collect();
+        Schema::from_parts(table, places)
+    }
+
+    /// The schema of a percept table and a list of place names.
+    pub fn from_parts(table: &PerceptTable, places: Vec<String>) -> Schema {
+        let mut groups: Vec<NameGroup> = Vec::new();
+        for (i, inst) in table.instances().iter().enumerate() {
+            let slot = PerceptSlot(i as u32);
+            match groups.iter_mut().find(|g| g.name == inst.name) {
+                Some(g) => g.instances.push((inst.args.clone(), slot)),
+                None => groups.push(NameGroup {
+                    name: inst.name.clone(),
+                    instances: vec![(inst.args.clone(), slot)],
+                }),
+            }
+        }
+        Schema {
+            groups,
+            places,
+            slots: table.len(),
+        }
+    }
+
+    /// The slot of `name(args…)`; `None` when not declared.
+    pub fn lookup<S: AsRef<str>>(&self, name: &str, args: &[S]) -> Option<PerceptSlot> {
+        let g = self.groups.iter().find(|g| g.name == name)?;
+        g.instances
+            .iter()
+            .find(|(a, _)| {
+                a.len() == args.len() && a.iter().zip(args).all(|(x, y)| x == y.as_ref())
+            })
+            .map(|(_, s)| *s)
+    }
+
+    /// Index of the place called `name`.
+    pub fn place(&self, name: &str) -> Option<usize> {
+        self.places.iter().position(|p| p == name)
+    }
+
+    /// Place names in id order.
+    pub fn places(&self) -> &[String] {
+        &self.places
+    }
+
+    /// Number of percept slots a frame needs.
+    pub fn slots(&self) -> usize {
+        self.slots
+    }
+}
+
+/// What a record carries besides its percepts.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FrameMeta {
+    /// 1-based line number of the record.
+    pub line: u64,
+    /// Time in seconds, if given.
+    pub t: Option<f64>,
+    /// Odometry increment (zero when absent).
+    pub odometry: Odometry,
+    /// True when the record carries a `truth` object.
+    pub truth_known: bool,
+    /// The true place (`None` between places or when unknown).
+    pub truth_place: Option<usize>,
+    /// The true pose `[x, y, θ°]`, if given.
+    pub truth_pose: Option<[f64; 3]>,
+}
+
+/// Why a record was rejected.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Rejection {
+    /// Not a record of the right shape (JSON syntax, wrong types, missing fields, CSV row width).
+    #[error("malformed record (column {column}): {message}")]
+    Malformed {
+        /// 1-based column (byte) where the problem was found.
+        column: usize,
+        /// What the parser said.
+        message: String,
+    },
+    /// Longer than [`MAX_LINE`].
+    #[error("line longer than {MAX_LINE} bytes")]
+    TooLong,
+    /// A format version this build does not read.
+    #[error("unsupported format version {found} (this build reads {FORMAT_VERSION})")]
+    Version {
+        /// The version found.
+        found: u64,
+    },
+    /// A percept instance the rule file does not declare.
+    #[error("unknown percept `{instance}`")]
+    UnknownPercept {
+        /// `name(args…)` as written.
+        instance: String,
+    },
+    /// A NaN degree, value, time or odometry component.
+    #[error("{field} is NaN")]
+    Nan {
+        /// What was NaN (`degree of sonar_wall(North)`, `t`, `odometry`…).
+        field: String,
+    },
+    /// A degree outside `[0, 1]`.
+    #[error("percept `{instance}`: degree {degree} is outside [0, 1]")]
+    DegreeRange {
+        /// The percept instance.
+        instance: String,
+        /// The degree found.
+        degree: f64,
+    },
+    /// An infinite value, time or odometry component.
+    #[error("{field} is not finite ({value})")]
+    Infinite {
+        /// What was infinite.
+        field: String,
+        /// The value.
+        value: f64,
+    },
+    /// The same percept instance twice in one record.
+    #[error("percept `{instance}` given twice")]
+    Duplicate {
+        /// The percept instance.
+        instance: String,
+    },
+    /// A time earlier than the previous accepted record's.
+    #[error("time goes backwards: t = {t} after t = {previous}")]
+    TimeBackwards {
+        /// This record's time.
+        t: f64,
+        /// The previous accepted record's time.
+        previous: f64,
+    },
+    /// A truth place the map does not have.
+    #[error("unknown truth place `{name}`")]
+    UnknownTruthPlace {
+        /// The name written.
+        name: String,
+    },
+    /// A CSV header column that names nothing known (its cells are ignored).
+    #[error("CSV column `{column}`: {reason}")]
+    CsvColumn {
+        /// The header cell.
+        column: String,
+        /// What is wrong with it.
+        reason: &'static str,
+    },
+}
+
+impl Rejection {
+    /// A short, stable name of the kind of problem, for counting in summaries.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Rejection::Malformed { .. } | Rejection::TooLong => "malformed",
+            Rejection::Version { .. } => "version",
+            Rejection::UnknownPercept { .. } => "unknown_percept",
+            Rejection::Nan { .. } => "nan",
+            Rejection::DegreeRange { .. } => "degree_out_of_range",
+            Rejection::Infinite { .. } => "not_finite",
+            Rejection::Duplicate { .. } => "duplicate_percept",
+            Rejection::TimeBackwards { .. } => "time_backwards",
+            Rejection::UnknownTruthPlace { .. } => "unknown_truth_place",
+            Rejection::CsvColumn { .. } => "csv_column",
+        }
+    }
+}
+
+/// A rejected record: its 1-based line number and why.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{line}: {reason}")]
+pub struct LineError {
+    /// 1-based line number.
+    pub line: u64,
+    /// Why it was rejected.
+    pub reason: Rejection,
+}
+
+/// What [`StreamReader::next_frame`] produced.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ReadOutcome {
+    /// The frame and its meta data were filled.
+    Frame,
+    /// A record was rejected and skipped.
+    Rejected(LineError),
+    /// The stream has ended.
+    End,
+}
+
+/// Buffers reused from record to record.
+#[derive(Debug, Default)]
+pub(crate) struct Scratch {
+    name: String,
+    args: Vec<String>,
+    nargs: usize,
+    /// `seen[slot] == stamp` when the slot was set in the current record.
+    seen: Vec<u32>,
+    stamp: u32,
+    /// Byte ranges of the cells of a CSV row.
+    pub(crate) fields: Vec<(usize, usize)>,
+}
+
+impl Scratch {
+    /// Starts a new record: forget which slots were set, without touching every entry.
+    pub(crate) fn begin(&mut self, slots: usize) {
+        if self.seen.len() != slots {
+            self.seen = vec![0; slots];
+            self.stamp = 0;
+        }
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.seen.fill(0);
+            self.stamp = 1;
+        }
+    }
+
+    /// Marks `slot` set; false if it already was in this record.
+    pub(crate) fn mark(&mut self, slot: PerceptSlot) -> bool {
+        match self.seen.get_mut(slot.0 as usize) {
+            Some(s) if *s == self.stamp => false,
+            Some(s) => {
+                *s = self.stamp;
+                true
+            }
+            None => true,
+        }
+    }
+}
+
+/// Renders `name(args…)` for a message (only on the rejection path).
+pub(crate) fn instance_name<S: AsRef<str>>(name: &str, args: &[S]) -> String {
+    if args.is_empty() {
+        name.to_string()
+    } else {
+        let args: Vec<&str> = args.iter().map(AsRef::as_ref).collect();
+        format!("{name}({})", args.join(", "))
+    }
+}
+
+/// Checks one percept and writes it into `frame`; the first problem is kept in `problem`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn put_percept<S: AsRef<str>>(
+    schema: &Schema,
+    scratch_seen: &mut Scratch,
+    frame: &mut Frame,
+    problem: &mut Option<Rejection>,
+    name: &str,
+    args: &[S],
+    degree: f64,
+    value: Option<f64>,
+) {
+    if problem.is_some() {
+        return;
+    }
+    let Some(slot) = schema.lookup(name, args) else {
+        *problem = Some(Rejection::UnknownPercept {
+            instance: instance_name(name, args),
+        });
+        return;
+    };
+    let bad = if degree.is_nan() {
+        Some(Rejection::Nan {
+            field: format!("degree of {}", instance_name(name, args)),
+        })
+    } else if !(0.0..=1.0).contains(&degree) {
+        Some(Rejection::DegreeRange {
+            instance: instance_name(name, args),
+            degree,
+        })
+    } else {
+        match value {
+            Some(v) if v.is_nan() => Some(Rejection::Nan {
+                field: format!("value of {}", instance_name(name, args)),
+            }),
+            Some(v) if v.is_infinite() => Some(Rejection::Infinite {
+                field: format!("value of {}", instance_name(name, args)),
+                value: v,
+            }),
+            _ => None,
+        }
+    };
+    if let Some(b) = bad {
+        *problem = Some(b);
+        return;
+    }
+    if !scratch_seen.mark(slot) {
+        *problem = Some(Rejection::Duplicate {
+            instance: instance_name(name, args),
+        });
+        return;
+    }
+    frame.set(slot, degree, value);
+}
+
+/// Checks the time and odometry of a parsed record.
+pub(crate) fn check_meta(meta: &FrameMeta, last_t: Option<f64>) -> Option<Rejection> {
+    let finite = |field: &str, v: f64| -> Option<Rejection> {
+        if v.is_nan() {
+            Some(Rejection::Nan {
+                field: field.to_string(),
+            })
+        } else if v.is_infinite() {
+            Some(Rejection::Infinite {
+                field: field.to_string(),
+                value: v,
+            })
+        } else {
+            None
+        }
+    };
+    if let Some(t) = meta.t {
+        if let Some(r) = finite("t", t) {
+            return Some(r);
+        }
+        if let Some(prev) = last_t {
+            if t < prev {
+                return Some(Rejection::TimeBackwards { t, previous: prev });
+            }
+        }
+    }
+    let o = meta.odometry;
+    for (f, v) in [
+        ("odometry dx", o.dx),
+        ("odometry dy", o.dy),
+        ("odometry dtheta", o.dtheta),
+    ] {
+        if let Some(r) = finite(f, v) {
+            return Some(r);
+        }
+    }
+    if let Some(p) = meta.truth_pose {
+        for v in p {
+            if let Some(r) = finite("truth pose", v) {
+                return Some(r);
+            }
+        }
+    }
+    None
+}
+
+/// Reads frames from a stream, one line at a time. See the module docs.
+#[derive(Debug)]
+pub struct StreamReader<R> {
+    input: R,
+    buf: Vec<u8>,
+    line: u64,
+    bytes: u64,
+    schema: Schema,
+    format: StreamFormat,
+    csv: Option<CsvLayout>,
+    /// CSV header problems still to be reported, in column order (reversed for `pop`).
+    pending: Vec<LineError>,
+    last_t: Option<f64>,
+    scratch: Scratch,
+}
+
+impl<R: BufRead> StreamReader<R> {
+    /// A reader of `format` over `input`, resolving names with `schema`.
+    pub fn new(input: R, schema: Schema, format: StreamFormat) -> Self {
+        StreamReader {
+            input,
+            buf: Vec::with_capacity(1024),
+            line: 0,
+            bytes: 0,
+            schema,
+            format,
+            csv: None,
+            pending: Vec::new(),
+            last_t: None,
+            scratch: Scratch::default(),
+        }
+    }
+
+    /// The schema names are resolved with.
+    pub fn schema(&self) -> &Schema {
+        &self.schema
+    }
+
+    /// Bytes consumed so far (for progress bars).
+    pub fn bytes_read(&self) -> u64 {
+        self.bytes
+    }
+
+    /// Lines consumed so far.
+    pub fn lines_read(&self) -> u64 {
+        self.line
+    }
+
+    /// Reads one line into `buf` (without its line ending). `Ok(None)` at the end; `Ok(Some(false))`
+    /// for a line longer than [`MAX_LINE`] (skipped, not held).
+    fn read_line(&mut self) -> std::io::Result<Option<bool>> {
+        self.buf.clear();
+        let n = (&mut self.input)
+            .take(MAX_LINE as u64 + 1)
+            .read_until(b'\n', &mut self.buf)?;
+        if n == 0 {
+            return Ok(None);
+        }
+        self.bytes += n as u64;
+        self.line += 1;
+        if self.buf.len() > MAX_LINE && self.buf.last() != Some(&b'\n') {
+            // Drain the rest of the line in bounded pieces.
+            loop {
+                self.buf.clear();
+                let m = (&mut self.input)
+                    .take(MAX_LINE as u64)
+                    .read_until(b'\n', &mut self.buf)?;
+                self.bytes += m as u64;
+                if m == 0 || self.buf.last() == Some(&b'\n') {
+                    break;
+                }
+            }
+            self.buf.clear();
+            return Ok(Some(false));
+        }
+        while matches!(self.buf.last(), Some(b'\n' | b'\r')) {
+            self.buf.pop();
+        }
+        Ok(Some(true))
+    }
+
+    /// Reads the next record into `frame` (cleared first; it must have [`Schema::slots`] slots)
+    /// and `meta`. Blank lines are skipped. I/O errors end the stream with an error.
+    pub fn next_frame(
+        &mut self,
+        frame: &mut Frame,
+        meta: &mut FrameMeta,
+    ) -> std::io::Result<ReadOutcome> {
+        loop {
+            if let Some(e) = self.pending.pop() {
+                return Ok(ReadOutcome::Rejected(e));
+            }
+            let Some(ok) = self.read_line()? else {
+                return Ok(ReadOutcome::End);
+            };
+            let line = self.line;
+            if !ok {
+                return Ok(ReadOutcome::Rejected(LineError {
+                    line,
+                    reason: Rejection::TooLong,
+                }));
+            }
+            if self.buf.iter().all(u8::is_ascii_whitespace) {
+                continue;
+            }
+            if self.format == StreamFormat::Csv && self.csv.is_none() {
+                let (layout, problems) = CsvLayout::from_header(&self.buf, &self.schema);
+                self.csv = Some(layout);
+                self.pending = problems
+                    .into_iter()
+                    .rev()
+                    .map(|reason| LineError { line, reason })
+                    .collect();
+                continue;
+            }
+            *meta = FrameMeta {
+                line,
+                ..FrameMeta::default()
+            };
+            frame.clear();
+            self.scratch.begin(self.schema.slots);
+            let mut problem = None;
+            match &self.csv {
+                Some(layout) => layout.parse_row(
+                    &self.buf,
+                    &self.schema,
+                    &mut self.scratch,
+                    frame,
+                    meta,
+                    &mut problem,
+                ),
+                None => {
+                    let mut ctx = Ctx {
+                        schema: &self.schema,
+                        frame,
+                        meta,
+                        scratch: &mut self.scratch,
+                        problem: &mut problem,
+                        version: None,
+                        has_percepts: false,
+                    };
+                    let mut de = serde_json::Deserializer::from_slice(&self.buf);
+                    let parsed = RecordSeed(&mut ctx)
+                        .deserialize(&mut de)
+                        .and_then(|()| de.end());
+                    match parsed {
+                        Err(e) => {
+                            problem = Some(Rejection::Malformed {
+                                column: e.column(),
+                                message: e.to_string(),
+                            })
+                        }
+                        Ok(()) => {
+                            if let Some(v) = ctx.version.filter(|&v| v != FORMAT_VERSION as u64) {
+                                problem = Some(Rejection::Version { found: v });
+                            }
+                        }
+                    }
+                }
+            }
+            let problem = problem.or_else(|| check_meta(meta, self.last_t));
+            return Ok(match problem {
+                Some(reason) => ReadOutcome::Rejected(LineError { line, reason }),
+                None => {
+                    if meta.t.is_some() {
+                        self.last_t = meta.t;
+                    }
+                    ReadOutcome::Frame
+                }
+            });
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The JSON seed: deserializes one record straight into the frame.
+
+struct Ctx<'s> {
+    schema: &'s Schema,
+    frame: &'s mut Frame,
+    meta: &'s mut FrameMeta,
+    scratch: &'s mut Scratch,
+    problem: &'s mut Option<Rejection>,
+    version: Option<u64>,
+    has_percepts: bool,
+}
+
+/// A number as JSON writes it, or one of the strings `"NaN"`, `"inf"`, `"-inf"` (any case,
+/// `"Infinity"` too), read so that it can be reported rather than failing as malformed.
+#[derive(Debug, Clone, Copy, Default)]
+struct Num(f64);
+
+/// A number, `null` (none), or a NaN/inf string.
+#[derive(Debug, Clone, Copy, Default)]
+struct OptNum(Option<f64>);
+
+struct NumVisitor;
+
+impl<'de> Visitor<'de> for NumVisitor {
+    type Value = Option<f64>;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a number (or \"NaN\")")
+    }
+    fn visit_f64<E>(self, v: f64) -> Result<Self::Value, E> {
+        Ok(Some(v))
+    }
+    fn visit_i64<E>(self, v: i64) -> Result<Self::Value, E> {
+        Ok(Some(v as f64))
+    }
+    fn visit_u64<E>(self, v: u64) -> Result<Self::Value, E> {
+        Ok(Some(v as f64))
+    }
+    fn visit_unit<E>(self) -> Result<Self::Value, E> {
+        Ok(None)
+    }
+    fn visit_none<E>(self) -> Result<Self::Value, E> {
+        Ok(None)
+    }
+    fn visit_str<E: de::Error>(self, s: &str) -> Result<Self::Value, E> {
+        let t = s.trim();
+        let lower = |w: &str| t.eq_ignore_ascii_case(w);
+        if lower("nan") {
+            Ok(Some(f64::NAN))
+        } else if lower("inf") || lower("+inf") || lower("infinity") {
+            Ok(Some(f64::INFINITY))
+        } else if lower("-inf") || lower("-infinity") {
+            Ok(Some(f64::NEG_INFINITY))
+        } else {
+            Err(E::invalid_value(de::Unexpected::Str(s), &self))
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Num {
+    fn deserialize<D: de::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        match d.deserialize_any(NumVisitor)? {
+            Some(v) => Ok(Num(v)),
+            None => Err(de::Error::invalid_type(de::Unexpected::Unit, &NumVisitor)),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for OptNum {
+    fn deserialize<D: de::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(NumVisitor).map(OptNum)
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(field_identifier, rename_all = "lowercase")]
+enum RecordKey {
+    Version,
+    T,
+    Odometry,
+    Percepts,
+    Truth,
+    #[serde(other)]
+    Other,
+}
+
+#[derive(Deserialize)]
+#[serde(field_identifier, rename_all = "lowercase")]
+enum PerceptKey {
+    Name,
+    Args,
+    Value,
+    Degree,
+    #[serde(other)]
+    Other,
+}
+
+#[derive(Deserialize)]
+#[serde(field_identifier, rename_all = "lowercase")]
+enum TruthKey {
+    Place,
+    Pose,
+    #[serde(other)]
+    Other,
+}
+
+#[derive(Deserialize, Default)]
+struct OdometryWire {
+    #[serde(default)]
+    dx: Num,
+    #[serde(default)]
+    dy: Num,
+    #[serde(default)]
+    dtheta: Num,
+}
+
+struct RecordSeed<'a, 's>(&'a mut Ctx<'s>);
+
+impl<'de> DeserializeSeed<'de> for RecordSeed<'_, '_> {
+    type Value = ();
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_map(self)
+    }
+}
+
+impl<'de> Visitor<'de> for RecordSeed<'_, '_> {
+    type Value = ();
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a frame record object")
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        let ctx = self.0;
+        while let Some(key) = map.next_key::<RecordKey>()? {
+            match key {
+                RecordKey::Version => ctx.version = Some(map.next_value::<u64>()?),
+                RecordKey::T => ctx.meta.t = map.next_value::<OptNum>()?.0,
+                RecordKey::Odometry => {
+                    let o = map
+                        .next_value::<Option<OdometryWire>>()?
+                        .unwrap_or_default();
+                    ctx.meta.odometry = Odometry {
+                        dx: o.dx.0,
+                        dy: o.dy.0,
+                        dtheta: o.dtheta.0,
+                    };
+                }
+                RecordKey::Percepts => {
+                    map.next_value_seed(PerceptsSeed(ctx))?;
+                    ctx.has_percepts = true;
+                }
+                RecordKey::Truth => map.next_value_seed(TruthSeed(ctx))?,
+                RecordKey::Other => {
+                    map.next_value::<IgnoredAny>()?;
+                }
+            }
+        }
+        if !ctx.has_percepts {
+            return Err(de::Error::missing_field("percepts"));
+        }
+        Ok(())
+    }
+}
+
+struct PerceptsSeed<'a, 's>(&'a mut Ctx<'s>);
+
+impl<'de> DeserializeSeed<'de> for PerceptsSeed<'_, '_> {
+    type Value = ();
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_seq(self)
+    }
+}
+
+impl<'de> Visitor<'de> for PerceptsSeed<'_, '_> {
+    type Value = ();
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("an array of percepts")
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        while seq.next_element_seed(PerceptSeed(&mut *self.0))?.is_some() {}
+        Ok(())
+    }
+}
+
+struct PerceptSeed<'a, 's>(&'a mut Ctx<'s>);
+
+impl<'de> DeserializeSeed<'de> for PerceptSeed<'_, '_> {
+    type Value = ();
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_map(self)
+    }
+}
+
+impl<'de> Visitor<'de> for PerceptSeed<'_, '_> {
+    type Value = ();
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a percept object {name, args, value, degree}")
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        let ctx = self.0;
+        let mut has_name = false;
+        let mut degree = None;
+        let mut value = None;
+        ctx.scratch.nargs = 0;
+        while let Some(key) = map.next_key::<PerceptKey>()? {
+            match key {
+                PerceptKey::Name => {
+                    map.next_value_seed(StrInto(&mut ctx.scratch.name))?;
+                    has_name = true;
+                }
+                PerceptKey::Args => {
+                    let n = map.next_value_seed(ArgsSeed(&mut ctx.scratch.args))?;
+                    ctx.scratch.nargs = n;
+                }
+                PerceptKey::Value => value = map.next_value::<OptNum>()?.0,
+                PerceptKey::Degree => degree = Some(map.next_value::<Num>()?.0),
+                PerceptKey::Other => {
+                    map.next_value::<IgnoredAny>()?;
+                }
+            }
+        }
+        if !has_name {
+            return Err(de::Error::missing_field("name"));
+        }
+        let Some(degree) = degree else {
+            return Err(de::Error::missing_field("degree"));
+        };
+        // Take the name buffers out while `put_percept` writes the `seen` stamps; put them back
+        // afterwards so their capacity is reused by the next percept.
+        let name = std::mem::take(&mut ctx.scratch.name);
+        let args_buf = std::mem::take(&mut ctx.scratch.args);
+        let args = args_buf.len().min(ctx.scratch.nargs);
+        put_percept(
+            ctx.schema,
+            ctx.scratch,
+            ctx.frame,
+            ctx.problem,
+            &name,
+            &args_buf[..args],
+            degree,
+            value,
+        );
+        ctx.scratch.name = name;
+        ctx.scratch.args = args_buf;
+        Ok(())
+    }
+}
+
+/// Deserializes a string into a reused buffer.
+struct StrInto<'a>(&'a mut String);
+
+impl<'de> DeserializeSeed<'de> for StrInto<'_> {
+    type Value = ();
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_str(self)
+    }
+}
+
+impl<'de> Visitor<'de> for StrInto<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a string")
+    }
+    fn visit_str<E>(self, s: &str) -> Result<(), E> {
+        self.0.clear();
+        self.0.push_str(s);
+        Ok(())
+    }
+}
+
+/// Deserializes an array of strings into reused buffers; yields how many there were.
+struct ArgsSeed<'a>(&'a mut Vec<String>);
+
+impl<'de> DeserializeSeed<'de> for ArgsSeed<'_> {
+    type Value = usize;
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<usize, D::Error> {
+        d.deserialize_seq(self)
+    }
+}
+
+impl<'de> Visitor<'de> for ArgsSeed<'_> {
+    type Value = usize;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("an array of argument names")
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<usize, A::Error> {
+        let mut n = 0;
+        loop {
+            if n == self.0.len() {
+                self.0.push(String::new());
+            }
+            if seq.next_element_seed(StrInto(&mut self.0[n]))?.is_none() {
+                return Ok(n);
+            }
+            n += 1;
+        }
+    }
+}
+
+struct TruthSeed<'a, 's>(&'a mut Ctx<'s>);
+
+impl<'de> DeserializeSeed<'de> for TruthSeed<'_, '_> {
+    type Value = ();
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_option(self)
+    }
+}
+
+impl<'de> Visitor<'de> for TruthSeed<'_, '_> {
+    type Value = ();
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a truth object {place, pose}")
+    }
+    fn visit_none<E>(self) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_unit<E>(self) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_some<D: de::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_map(self)
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        let ctx = self.0;
+        ctx.meta.truth_known = true;
+        while let Some(key) = map.next_key::<TruthKey>()? {
+            match key {
+                TruthKey::Place => {
+                    let place = map.next_value_seed(PlaceSeed(ctx.schema))?;
+                    match place {
+                        Ok(p) => ctx.meta.truth_place = p,
+                        Err(name) => {
+                            if ctx.problem.is_none() {
+                                *ctx.problem = Some(Rejection::UnknownTruthPlace { name });
+                            }
+                        }
+                    }
+                }
+                TruthKey::Pose => {
+                    ctx.meta.truth_pose = map
+                        .next_value::<Option<[Num; 3]>>()?
+                        .map(|p| [p[0].0, p[1].0, p[2].0]);
+                }
+                TruthKey::Other => {
+                    map.next_value::<IgnoredAny>()?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A truth place name resolved against the schema: `Ok(None)` for null, `Err(name)` if unknown.
+struct PlaceSeed<'a>(&'a Schema);
+
+impl<'de> DeserializeSeed<'de> for PlaceSeed<'_> {
+    type Value = Result<Option<usize>, String>;
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl<'de> Visitor<'de> for PlaceSeed<'_> {
+    type Value = Result<Option<usize>, String>;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a place name or null")
+    }
+    fn visit_unit<E>(self) -> Result<Self::Value, E> {
+        Ok(Ok(None))
+    }
+    fn visit_none<E>(self) -> Result<Self::Value, E> {
+        Ok(Ok(None))
+    }
+    fn visit_str<E>(self, s: &str) -> Result<Self::Value, E> {
+        Ok(self.0.place(s).map(Some).ok_or_else(|| s.to_string()))
+    }
+}

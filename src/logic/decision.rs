@@ -1,0 +1,131 @@
+//! The decision drawn from a [`PlaceDistribution`]: a chosen place, or a typed *disoriented*
+//! outcome with its reason — never a silent guess, never NaN (DESIGN §3).
+//!
+//! Let `b` be the place of highest necessity (ties: higher support, then lower index), `θ` the
+//! threshold and `m` the margin. Then, in this order:
+//! 1. `N_b ≥ θ` and `N_b − Inc > m` → [`Decision::Place`] `b`;
+//! 2. `Inc ≥ θ` → [`Disoriented::Inconsistent`]: strong evidence for places that exclude each
+//!    other drowns everything below `Inc`;
+//! 3. `N_b ≥ θ` (so it failed only the margin over `Inc`) → [`Disoriented::TooClose`];
+//! 4. no place has support `≥ θ` → [`Disoriented::NothingAboveThreshold`];
+//! 5. otherwise → [`Disoriented::TooClose`]: a runner-up remains too possible.
+//!
+//! The runner-up reported is the place other than `b` with the highest normalised possibility;
+//! with a single place, cases 3 and 5 report [`Disoriented::Inconsistent`] instead, since there is
+//! no other place to be close to.
+
+use super::possibility::PlaceDistribution;
+use serde::{Deserialize, Serialize};
+
+/// Threshold and margin of the decision (from the rule file's `logic` block).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DecisionParams {
+    /// Necessity a place needs.
+    pub threshold: f64,
+    /// How far the necessity must exceed the inconsistency.
+    pub margin: f64,
+}
+
+/// Why no place was chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "reason", rename_all = "snake_case")]
+pub enum Disoriented {
+    /// No place is supported up to the threshold.
+    NothingAboveThreshold {
+        /// The best place all the same.
+        best: usize,
+        /// Its support.
+        support: f64,
+    },
+    /// The best place does not stand out enough from the runner-up.
+    TooClose {
+        /// The best place.
+        best: usize,
+        /// The place that stays too possible.
+        runner_up: usize,
+        /// The best place's necessity.
+        necessity: f64,
+    },
+    /// The evidence contradicts itself too much.
+    Inconsistent {
+        /// `Inc`.
+        inconsistency: f64,
+    },
+    /// The map has no places at all.
+    NoPlaces,
+}
+
+/// The outcome of one step.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "outcome", rename_all = "snake_case")]
+pub enum Decision {
+    /// A place was chosen.
+    Place {
+        /// Its index in the map.
+        place: usize,
+        /// Its necessity.
+        necessity: f64,
+    },
+    /// No place was chosen.
+    Disoriented(Disoriented),
+}
+
+impl Decision {
+    /// The chosen place, if any.
+    pub fn place(&self) -> Option<usize> {
+        match *self {
+            Decision::Place { place, .. } => Some(place),
+            Decision::Disoriented(_) => None,
+        }
+    }
+}
+
+/// Decides from an up-to-date distribution, as the module docs describe.
+pub fn decide(d: &PlaceDistribution, p: DecisionParams) -> Decision {
+    let n = d.len();
+    if n == 0 {
+        return Decision::Disoriented(Disoriented::NoPlaces);
+    }
+    let better = |a: usize, b: usize, key: &[f64]| {
+        key[a] > key[b] || (key[a] == key[b] && d.support[a] > d.support[b])
+    };
+    let mut best = 0;
+    for k in 1..n {
+        if better(k, best, &d.necessity) {
+            best = k;
+        }
+    }
+    let nb = d.necessity[best];
+    let inc = d.inconsistency;
+    if nb >= p.threshold && nb - inc > p.margin {
+        return Decision::Place {
+            place: best,
+            necessity: nb,
+        };
+    }
+    if inc >= p.threshold {
+        return Decision::Disoriented(Disoriented::Inconsistent { inconsistency: inc });
+    }
+    let max_support = d.support.iter().copied().fold(0.0, f64::max);
+    if nb < p.threshold && max_support < p.threshold {
+        return Decision::Disoriented(Disoriented::NothingAboveThreshold {
+            best,
+            support: d.support[best],
+        });
+    }
+    if n == 1 {
+        // A lone place has nobody to be too close to: what held it back is the inconsistency.
+        return Decision::Disoriented(Disoriented::Inconsistent { inconsistency: inc });
+    }
+    let mut runner_up = if best == 0 { 1 } else { 0 };
+    for k in 0..n {
+        if k != best && better(k, runner_up, &d.possibility) {
+            runner_up = k;
+        }
+    }
+    Decision::Disoriented(Disoriented::TooClose {
+        best,
+        runner_up,
+        necessity: nb,
+    })
+}

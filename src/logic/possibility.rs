@@ -1,0 +1,187 @@
+//! The possibility distribution over mutually exclusive places, built from per-place supports
+//! (DESIGN §3).
+//!
+//! Each place `k` has a support `α_k` (the degree derived for `at_place(P_k)`) and an exclusion
+//! `β_k` (the degree derived for `!at_place(P_k)`). In possibilistic logic `(at_place(P_j), α_j)`
+//! means `N(at_place(P_j)) ≥ α_j`; since places exclude each other, it rules out every world
+//! `k ≠ j` to degree `α_j`, and `(¬at_place(P_k), β_k)` rules out world `k` to degree `β_k`. The
+//! least specific distribution compatible with all of them is
+//!
+//! ```text
+//! π_k  = min( min_{j≠k} (1 − α_j), 1 − β_k )
+//! h    = max_k π_k                     (height)
+//! Inc  = 1 − h                         (inconsistency degree of the base)
+//! π'_k = 1 if π_k = h, else π_k        (min-based normalisation)
+//! π'_k = π_k / h                       (product-based normalisation; all 1 when h = 0)
+//! Π_k  = π'_k
+//! N_k  = 1 − max_{j≠k} π'_j
+//! ```
+//!
+//! Every quantity is computed in `O(n)` with two running extremes, into buffers allocated once.
+
+use super::ops::Normalisation;
+use serde::{Deserialize, Serialize};
+
+/// Supports, possibilities and necessities of `n` mutually exclusive places.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlaceDistribution {
+    /// `α_k`: support for `at_place(P_k)`.
+    pub support: Vec<f64>,
+    /// `β_k`: support for `!at_place(P_k)`.
+    pub exclusion: Vec<f64>,
+    /// `π_k` before normalisation.
+    pub possibility_raw: Vec<f64>,
+    /// `Π_k = π'_k`, after normalisation.
+    pub possibility: Vec<f64>,
+    /// `N_k`.
+    pub necessity: Vec<f64>,
+    /// `h = max π`.
+    pub height: f64,
+    /// `Inc = 1 − h`.
+    pub inconsistency: f64,
+}
+
+/// Index and value of the largest and the index-excluding second largest entries.
+#[derive(Clone, Copy)]
+struct Top2 {
+    best: usize,
+    first: f64,
+    second: f64,
+}
+
+impl Top2 {
+    /// Over `values`, with `f` mapping each entry; ties keep the lowest index as `best`.
+    fn max_of(values: &[f64], f: impl Fn(f64) -> f64) -> Top2 {
+        let mut t = Top2 {
+            best: usize::MAX,
+            first: f64::NEG_INFINITY,
+            second: f64::NEG_INFINITY,
+        };
+        for (k, &v) in values.iter().enumerate() {
+            let v = f(v);
+            if v > t.first {
+                t.second = t.first;
+                t.first = v;
+                t.best = k;
+            } else if v > t.second {
+                t.second = v;
+            }
+        }
+        t
+    }
+
+    /// The maximum over all entries except `k` (−∞ when there is no other entry).
+    #[inline]
+    fn max_except(&self, k: usize) -> f64 {
+        if k == self.best {
+            self.second
+        } else {
+            self.first
+        }
+    }
+}
+
+impl PlaceDistribution {
+    /// A distribution over `n` places with no evidence yet (all supports 0).
+    pub fn new(n: usize) -> Self {
+        let mut d = PlaceDistribution {
+            support: vec![0.0; n],
+            exclusion: vec![0.0; n],
+            possibility_raw: vec![1.0; n],
+            possibility: vec![1.0; n],
+            necessity: vec![0.0; n],
+            height: 1.0,
+            inconsistency: 0.0,
+        };
+        d.update(Normalisation::Min);
+        d
+    }
+
+    /// Number of places.
+    pub fn len(&self) -> usize {
+        self.support.len()
+    }
+
+    /// True when there are no places.
+    pub fn is_empty(&self) -> bool {
+        self.support.is_empty()
+    }
+
+    /// Recomputes π, h, Inc, Π and N from `support` and `exclusion`, without allocating.
+    ///
+    /// With no places at all the height is 0 and the inconsistency 1: nothing is possible.
+    pub fn update(&mut self, normalisation: Normalisation) {
+        let n = self.support.len();
+        // min_{j≠k}(1 − α_j) = 1 − max_{j≠k} α_j; an empty min is 1.
+        let sup = Top2::max_of(&self.support, |a| a);
+        let mut h = 0.0f64;
+        for k in 0..n {
+            let others = sup.max_except(k).max(0.0);
+            let p = (1.0 - others).min(1.0 - self.exclusion[k]);
+            self.possibility_raw[k] = p;
+            h = h.max(p);
+        }
+        self.height = h;
+        self.inconsistency = 1.0 - h;
+        for k in 0..n {
+            let p = self.possibility_raw[k];
+            self.possibility[k] = match normalisation {
+                Normalisation::Min => {
+                    if p >= h {
+                        1.0
+                    } else {
+                        p
+                    }
+                }
+                Normalisation::Product => {
+                    if h > 0.0 {
+                        (p / h).min(1.0)
+                    } else {
+                        1.0
+                    }
+                }
+            };
+        }
+        let pos = Top2::max_of(&self.possibility, |p| p);
+        for k in 0..n {
+            // An empty max is 0: a lone place is certain.
+            self.necessity[k] = 1.0 - pos.max_except(k).max(0.0);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dist(alpha: &[f64], beta: &[f64], norm: Normalisation) -> PlaceDistribution {
+        let mut d = PlaceDistribution::new(alpha.len());
+        d.support.copy_from_slice(alpha);
+        d.exclusion.copy_from_slice(beta);
+        d.update(norm);
+        d
+    }
+
+    #[test]
+    fn two_supported_places_hand_worked() {
+        // α = (0.8, 0.5, 0): π_0 = min(1−0.5, 1−0) = 0.5, π_1 = 1−0.8 = 0.2, π_2 = 0.2.
+        // h = 0.5, Inc = 0.5. Min-based: π' = (1, 0.2, 0.2) → N_0 = 0.8, N_1 = N_2 = 0.
+        let d = dist(&[0.8, 0.5, 0.0], &[0.0; 3], Normalisation::Min);
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+        assert!(close(d.possibility_raw[0], 0.5) && close(d.possibility_raw[1], 0.2));
+        assert!(close(d.inconsistency, 0.5));
+        assert!(close(d.necessity[0], 0.8) && close(d.necessity[1], 0.0));
+        // Product-based: π' = (1, 0.4, 0.4) → N_0 = 0.6.
+        let d = dist(&[0.8, 0.5, 0.0], &[0.0; 3], Normalisation::Product);
+        assert!(close(d.necessity[0], 0.6));
+    }
+
+    #[test]
+    fn lone_place_and_no_place() {
+        let d = dist(&[0.0], &[0.3], Normalisation::Min);
+        // π_0 = min(1 (empty min), 0.7) = 0.7 → normalised to 1; N_0 = 1 − max(∅) = 1.
+        assert_eq!(d.necessity[0], 1.0);
+        let d = dist(&[], &[], Normalisation::Min);
+        assert_eq!(d.inconsistency, 1.0);
+    }
+}

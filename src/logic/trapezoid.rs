@@ -1,0 +1,114 @@
+//! The trapezoidal fuzzy set ⟨θ, Δ, α, h, b⟩ of paper 000 (centre, core width, slope, height,
+//! bias), used to compare a measured value with the value a place expects.
+//!
+//! ```text
+//!   h ┤      ┌────Δ────┐
+//!     │     /           \
+//!     │    /             \
+//!   b ┤───┘               └───      μ(x) = b + (h − b) · f(|x − θ|)
+//!     └───┴──┴────θ────┴──┴──       f(d) = 1                        if d ≤ Δ/2
+//!          α               α             = max(0, 1 − (d − Δ/2)/α)  otherwise
+//! ```
+//!
+//! `α` is the horizontal run of each slope (the support is `Δ/2 + α` either side of θ); `α = 0`
+//! makes a crisp interval. The bias `b` is the possibility that the reading is an outlier: a value
+//! far from the expectation keeps possibility `b`, not 0. With a `period` (360 for degrees), the
+//! distance `|x − θ|` is taken around the circle.
+
+use serde::{Deserialize, Serialize};
+
+/// Shape of a trapezoidal similarity; the centre θ is supplied per comparison.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Trapezoid {
+    /// Δ: width of the core (fully possible values), in the measured value's unit.
+    pub core: f64,
+    /// α: run of each slope, same unit. 0 = crisp edges.
+    pub slope: f64,
+    /// h: height, in `[0, 1]` (default 1).
+    pub height: f64,
+    /// b: bias, in `[0, h]` (default 0).
+    pub bias: f64,
+    /// Period for circular quantities (360 for degrees); `None` for linear ones.
+    pub period: Option<f64>,
+}
+
+impl Default for Trapezoid {
+    fn default() -> Self {
+        Trapezoid {
+            core: 0.0,
+            slope: 1.0,
+            height: 1.0,
+            bias: 0.0,
+            period: None,
+        }
+    }
+}
+
+impl Trapezoid {
+    /// `μ(x)` for a trapezoid centred on `centre`. NaN or infinite inputs give the bias: a value
+    /// that could not be measured is as possible as an outlier, no more.
+    #[inline]
+    pub fn degree(&self, x: f64, centre: f64) -> f64 {
+        let mut d = (x - centre).abs();
+        if !d.is_finite() {
+            return self.bias;
+        }
+        if let Some(p) = self.period {
+            if p > 0.0 {
+                d %= p;
+                d = d.min(p - d);
+            }
+        }
+        let half = 0.5 * self.core;
+        let f = if d <= half {
+            1.0
+        } else if self.slope > 0.0 {
+            (1.0 - (d - half) / self.slope).max(0.0)
+        } else {
+            0.0
+        };
+        self.bias + (self.height - self.bias) * f
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hand_worked_points() {
+        // core 2 (±1), slope 2, height 1, bias 0.1: at distance 2 we are half way down the slope,
+        // f = 0.5, μ = 0.1 + 0.9·0.5 = 0.55; at distance 3 and beyond, μ = b = 0.1.
+        let t = Trapezoid {
+            core: 2.0,
+            slope: 2.0,
+            height: 1.0,
+            bias: 0.1,
+            period: None,
+        };
+        assert_eq!(t.degree(10.0, 10.0), 1.0);
+        assert_eq!(t.degree(11.0, 10.0), 1.0);
+        assert!((t.degree(12.0, 10.0) - 0.55).abs() < 1e-12);
+        assert!((t.degree(7.0, 10.0) - 0.1).abs() < 1e-12);
+        assert!((t.degree(f64::NAN, 10.0) - 0.1).abs() < 1e-12);
+    }
+
+    #[test]
+    fn circular_distance_wraps() {
+        // 355° and 5° are 10° apart on the circle: inside a core of width 20.
+        let t = Trapezoid {
+            core: 20.0,
+            slope: 10.0,
+            height: 1.0,
+            bias: 0.0,
+            period: Some(360.0),
+        };
+        assert_eq!(t.degree(355.0, 5.0), 1.0);
+        // 180° away: beyond the support (10 + 10): bias 0.
+        assert_eq!(t.degree(185.0, 5.0), 0.0);
+        // -20 vs 5 = 25° apart: f = 1 − (25 − 10)/10 = −0.5 → 0.
+        assert_eq!(t.degree(-20.0, 5.0), 0.0);
+        // 17° apart: f = 1 − 7/10 = 0.3.
+        assert!((t.degree(-12.0, 5.0) - 0.3).abs() < 1e-12);
+    }
+}

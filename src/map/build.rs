@@ -1,0 +1,297 @@
+//! Building a [`Map`] from a parsed map file, with every check a map file can fail on its own:
+//! duplicate names (places, rooms and landmarks share one namespace), unknown rooms, paths to
+//! unknown places, self and duplicate paths, negative lengths and radii, degrees outside
+//! `[0, 1]`, swapped box corners and features written twice in one place. All problems are
+//! reported, not just the first.
+
+use super::place::{corner_key, Extent, Landmark, Place, Room, DEFAULT_RADIUS};
+use super::shortest_paths::floyd_warshall;
+use super::{Map, PathInfo};
+use crate::syntax::ast::{self, Feature, LandmarkKind, MapFile, MapItem};
+use crate::syntax::diagnostic::{Diagnostic, DiagnosticKind};
+use crate::syntax::span::{Span, Spanned};
+use petgraph::graph::{NodeIndex, UnGraph};
+use std::collections::BTreeMap;
+
+fn degree_ok(d: &Option<Spanned<f64>>, diags: &mut Vec<Diagnostic>) -> f64 {
+    match d {
+        None => 1.0,
+        Some(s) if (0.0..=1.0).contains(&s.node) => s.node,
+        Some(s) => {
+            diags.push(Diagnostic::error(
+                DiagnosticKind::DegreeOutOfRange { value: s.node },
+                s.span,
+            ));
+            s.node.clamp(0.0, 1.0)
+        }
+    }
+}
+
+impl Map {
+    /// Builds the map model from a parsed map file, or returns every problem found.
+    ///
+    /// ```
+    /// use lplace::map::Map;
+    /// let ast = lplace::syntax::parse_map("place A corner at (0, 0); place B corner at (3, 4);\npath A -- B;").unwrap();
+    /// let map = Map::from_ast(&ast).unwrap();
+    /// assert_eq!(map.path_length(0, 1), 5.0); // no length given: Euclidean distance
+    /// ```
+    pub fn from_ast(file: &MapFile) -> Result<Map, Vec<Diagnostic>> {
+        let mut diags = Vec::new();
+        // One namespace for places, rooms and landmarks: name → first definition.
+        let mut names: BTreeMap<String, Span> = BTreeMap::new();
+        let mut declare =
+            |id: &Spanned<String>, what: &'static str, diags: &mut Vec<Diagnostic>| -> bool {
+                if let Some(first) = names.get(id.node.as_str()) {
+                    diags.push(
+                        Diagnostic::error(
+                            DiagnosticKind::DuplicateName {
+                                what,
+                                name: id.node.clone(),
+                            },
+                            id.span,
+                        )
+                        .with_related(*first, "first defined here"),
+                    );
+                    false
+                } else {
+                    names.insert(id.node.clone(), id.span);
+                    true
+                }
+            };
+
+        let mut rooms = Vec::new();
+        let mut landmarks = Vec::new();
+        let mut place_decls: Vec<&ast::PlaceDecl> = Vec::new();
+        for item in &file.items {
+            match item {
+                MapItem::Room(r) => {
+                    if declare(&r.name, "room", &mut diags) {
+                        rooms.push(Room {
+                            name: r.name.node.clone(),
+                            label: r.label.as_ref().map(|l| l.node.clone()),
+                            places: Vec::new(),
+                        });
+                    }
+                }
+                MapItem::Landmark(l) => {
+                    let what = match l.kind {
+                        LandmarkKind::Beacon => "beacon",
+                        LandmarkKind::Landmark => "landmark",
+                    };
+                    if declare(&l.name, what, &mut diags) {
+                        landmarks.push(Landmark {
+                            name: l.name.node.clone(),
+                            beacon: l.kind == LandmarkKind::Beacon,
+                            position: l.position.node,
+                            id: l.id.as_ref().map(|i| i.node),
+                        });
+                    }
+                }
+                MapItem::Place(p) => {
+                    if declare(&p.name, "place", &mut diags) {
+                        place_decls.push(p);
+                    }
+                }
+                MapItem::Path(_) => {}
+            }
+        }
+
+        let mut places = Vec::with_capacity(place_decls.len());
+        for p in place_decls {
+            places.push(build_place(p, &mut rooms, places.len(), &mut diags));
+        }
+
+        let mut graph = UnGraph::<usize, PathInfo>::with_capacity(places.len(), 0);
+        for i in 0..places.len() {
+            graph.add_node(i);
+        }
+        let index = |name: &str| places.iter().position(|p: &Place| p.name == name);
+        let mut seen: BTreeMap<(usize, usize), Span> = BTreeMap::new();
+        for item in &file.items {
+            let MapItem::Path(path) = item else { continue };
+            let ends = [&path.from, &path.to].map(|e| {
+                let i = index(&e.node);
+                if i.is_none() {
+                    diags.push(Diagnostic::error(
+                        DiagnosticKind::PathToUnknownPlace {
+                            name: e.node.clone(),
+                        },
+                        e.span,
+                    ));
+                }
+                i
+            });
+            let [Some(a), Some(b)] = ends else { continue };
+            if a == b {
+                diags.push(Diagnostic::error(
+                    DiagnosticKind::SelfPath {
+                        name: path.from.node.clone(),
+                    },
+                    path.span,
+                ));
+                continue;
+            }
+            let key = (a.min(b), a.max(b));
+            if let Some(first) = seen.get(&key) {
+                diags.push(
+                    Diagnostic::error(
+                        DiagnosticKind::DuplicatePath {
+                            from: path.from.node.clone(),
+                            to: path.to.node.clone(),
+                        },
+                        path.span,
+                    )
+                    .with_related(*first, "first path here"),
+                );
+                continue;
+            }
+            seen.insert(key, path.span);
+            let length = match &path.length {
+                Some(l) if l.node < 0.0 => {
+                    diags.push(Diagnostic::error(
+                        DiagnosticKind::NegativeLength {
+                            what: "length",
+                            value: l.node,
+                        },
+                        l.span,
+                    ));
+                    continue;
+                }
+                Some(l) => l.node,
+                None => {
+                    let (pa, pb) = (places[a].pose, places[b].pose);
+                    (pa.0 - pb.0).hypot(pa.1 - pb.1)
+                }
+            };
+            graph.add_edge(
+                NodeIndex::new(a),
+                NodeIndex::new(b),
+                PathInfo {
+                    length,
+                    heading: path.heading.as_ref().map(|h| h.node),
+                },
+            );
+        }
+
+        if !diags.is_empty() {
+            diags.sort_by_key(|d| d.span.start);
+            return Err(diags);
+        }
+        let distances = floyd_warshall(&graph, |p| p.length);
+        Ok(Map {
+            name: file.name.as_ref().map(|n| n.node.clone()),
+            places,
+            rooms,
+            landmarks,
+            graph,
+            distances,
+        })
+    }
+}
+
+fn build_place(
+    p: &ast::PlaceDecl,
+    rooms: &mut [Room],
+    id: usize,
+    diags: &mut Vec<Diagnostic>,
+) -> Place {
+    let room = match &p.room {
+        None => None,
+        Some(r) => match rooms.iter().position(|x| x.name == r.node) {
+            Some(i) => {
+                rooms[i].places.push(id);
+                Some(i)
+            }
+            None => {
+                diags.push(Diagnostic::error(
+                    DiagnosticKind::UnknownRoom {
+                        name: r.node.clone(),
+                    },
+                    r.span,
+                ));
+                None
+            }
+        },
+    };
+    let extent = match &p.extent {
+        None => Extent::Radius(DEFAULT_RADIUS),
+        Some(e) => match e.node {
+            ast::Extent::Radius(r) => {
+                if r < 0.0 {
+                    diags.push(Diagnostic::error(
+                        DiagnosticKind::NegativeLength {
+                            what: "radius",
+                            value: r,
+                        },
+                        e.span,
+                    ));
+                }
+                Extent::Radius(r.max(0.0))
+            }
+            ast::Extent::Box(x0, y0, x1, y1) => {
+                for (lo, hi) in [(x0, x1), (y0, y1)] {
+                    if lo > hi {
+                        diags.push(Diagnostic::error(
+                            DiagnosticKind::InvalidBox { low: lo, high: hi },
+                            e.span,
+                        ));
+                    }
+                }
+                Extent::Box { x0, y0, x1, y1 }
+            }
+        },
+    };
+    let mut place = Place {
+        name: p.name.node.clone(),
+        kind: p.kind.node.clone(),
+        room,
+        pose: p.pose.node,
+        extent,
+        walls: BTreeMap::new(),
+        corners: BTreeMap::new(),
+        params: BTreeMap::new(),
+        span: p.span,
+        direction_spans: Vec::new(),
+    };
+    let dup = |what: &'static str, name: String, span: Span| {
+        Diagnostic::error(DiagnosticKind::DuplicateFeature { what, name }, span)
+    };
+    for f in &p.features {
+        match f {
+            Feature::Wall { dir, degree, span } => {
+                let d = degree_ok(degree, diags);
+                place.direction_spans.push((dir.node.clone(), dir.span));
+                if place.walls.insert(dir.node.clone(), d).is_some() {
+                    diags.push(dup("wall", dir.node.clone(), *span));
+                }
+            }
+            Feature::Corner {
+                d1,
+                d2,
+                degree,
+                span,
+            } => {
+                let d = degree_ok(degree, diags);
+                place.direction_spans.push((d1.node.clone(), d1.span));
+                place.direction_spans.push((d2.node.clone(), d2.span));
+                let key = corner_key(&d1.node, &d2.node);
+                if place.corners.insert(key, d).is_some() {
+                    diags.push(dup("corner", format!("{} {}", d1.node, d2.node), *span));
+                }
+            }
+            Feature::Param {
+                name,
+                key,
+                value,
+                span,
+            } => {
+                let k = (name.node.clone(), key.as_ref().map(|k| k.node.clone()));
+                if place.params.insert(k, value.node).is_some() {
+                    diags.push(dup("param", name.node.clone(), *span));
+                }
+            }
+        }
+    }
+    place
+}

@@ -1,0 +1,216 @@
+//! Paper 003's run-time display (Fig. 3) unrolled over time, as a hand-written SVG: one row per
+//! place, a strip of its possibility Π (light) above a strip of its necessity N (dark) along the
+//! frames, a tick where the place was chosen, and a red bar where it was the truth.
+//!
+//! Memory stays flat on any run length: [`RunPlot`] keeps at most [`MAX_COLUMNS`] columns; when
+//! they are full, neighbouring columns are merged pairwise (max of the degrees, the later
+//! decision) and each column covers twice as many frames. Depends on `logic` only.
+
+use crate::logic::{Decision, PlaceDistribution};
+use std::fmt::Write as _;
+
+/// Most columns kept (and drawn).
+pub const MAX_COLUMNS: usize = 1024;
+
+const NONE: u32 = u32::MAX;
+
+/// Degrees and decisions of a run, reduced to at most [`MAX_COLUMNS`] columns.
+#[derive(Debug, Clone)]
+pub struct RunPlot {
+    places: Vec<String>,
+    /// Frames per stored column.
+    bucket: u64,
+    frames: u64,
+    /// Per column, per place: max Π and max N.
+    pos: Vec<f32>,
+    nec: Vec<f32>,
+    chosen: Vec<u32>,
+    truth: Vec<u32>,
+    /// Frames in the column being filled (the last one).
+    fill: u64,
+    title: String,
+}
+
+impl RunPlot {
+    /// An empty plot for these places.
+    pub fn new(places: Vec<String>, title: impl Into<String>) -> RunPlot {
+        let n = places.len();
+        RunPlot {
+            places,
+            bucket: 1,
+            frames: 0,
+            pos: Vec::with_capacity(MAX_COLUMNS * n),
+            nec: Vec::with_capacity(MAX_COLUMNS * n),
+            chosen: Vec::with_capacity(MAX_COLUMNS),
+            truth: Vec::with_capacity(MAX_COLUMNS),
+            fill: 0,
+            title: title.into(),
+        }
+    }
+
+    fn columns(&self) -> usize {
+        self.chosen.len()
+    }
+
+    /// Adds one frame.
+    pub fn push(&mut self, dist: &PlaceDistribution, decision: Decision, truth: Option<usize>) {
+        let n = self.places.len();
+        if self.fill == 0 || self.fill >= self.bucket {
+            if self.columns() == MAX_COLUMNS {
+                self.halve();
+            }
+            self.pos.extend(std::iter::repeat(0.0).take(n));
+            self.nec.extend(std::iter::repeat(0.0).take(n));
+            self.chosen.push(NONE);
+            self.truth.push(NONE);
+            self.fill = 0;
+        }
+        let c = self.columns() - 1;
+        for k in 0..n {
+            let p = dist.possibility.get(k).copied().unwrap_or(0.0) as f32;
+            let q = dist.necessity.get(k).copied().unwrap_or(0.0) as f32;
+            self.pos[c * n + k] = self.pos[c * n + k].max(p);
+            self.nec[c * n + k] = self.nec[c * n + k].max(q);
+        }
+        self.chosen[c] = decision.place().map_or(NONE, |p| p as u32);
+        self.truth[c] = truth.map_or(NONE, |p| p as u32);
+        self.fill += 1;
+        self.frames += 1;
+    }
+
+    /// Merges columns pairwise; the bucket doubles.
+    fn halve(&mut self) {
+        let n = self.places.len();
+        let cols = self.columns();
+        let half = cols / 2;
+        for c in 0..half {
+            let (a, b) = (2 * c, 2 * c + 1);
+            for k in 0..n {
+                self.pos[c * n + k] = self.pos[a * n + k].max(self.pos[b * n + k]);
+                self.nec[c * n + k] = self.nec[a * n + k].max(self.nec[b * n + k]);
+            }
+            self.chosen[c] = self.chosen[b];
+            self.truth[c] = self.truth[b];
+        }
+        self.pos.truncate(half * n);
+        self.nec.truncate(half * n);
+        self.chosen.truncate(half);
+        self.truth.truncate(half);
+        self.bucket *= 2;
+        // The last kept column is complete; the next push starts a new one.
+        self.fill = self.bucket;
+    }
+
+    /// The SVG document.
+    pub fn to_svg(&self) -> String {
+        let n = self.places.len();
+        let cols = self.columns().max(1);
+        let (left, top, row_h, width) = (56.0, 40.0, 28.0, 1000.0);
+        let w = width / cols as f64;
+        let height = top + row_h * n as f64 + 60.0;
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            r##"<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{height}" viewBox="0 0 {} {height}" font-family="sans-serif" font-size="12">"##,
+            left + width + 20.0,
+            left + width + 20.0
+        );
+        let _ = writeln!(
+            s,
+            r##"<rect width="100%" height="100%" fill="white"/><text x="{left}" y="18" font-size="14">{}</text>"##,
+            xml_escape(&self.title)
+        );
+        let _ = writeln!(
+            s,
+            r##"<text x="{left}" y="32" fill="#555">{} frames, {} per column · light: Π, dark: N · black tick: chosen · red bar: truth</text>"##,
+            self.frames, self.bucket
+        );
+        for (k, name) in self.places.iter().enumerate() {
+            let y = top + row_h * k as f64;
+            let _ = writeln!(
+                s,
+                r##"<text x="{}" y="{}" text-anchor="end">{}</text><rect x="{left}" y="{}" width="{width}" height="{}" fill="none" stroke="#ddd"/>"##,
+                left - 6.0,
+                y + row_h * 0.6,
+                xml_escape(name),
+                y + 3.0,
+                row_h - 4.0
+            );
+            // Runs of equal quantised degree become one rectangle: small files for long runs.
+            let strips = [
+                (&self.pos, "#3b7dd8", y + 4.0, 10.0),
+                (&self.nec, "#0b2a55", y + 14.0, 10.0),
+            ];
+            for (values, colour, sy, sh) in strips {
+                let q = |c: usize| (values[c * n + k].clamp(0.0, 1.0) * 20.0).round() as u32;
+                let mut c = 0;
+                while c < self.columns() {
+                    let level = q(c);
+                    let mut e = c + 1;
+                    while e < self.columns() && q(e) == level {
+                        e += 1;
+                    }
+                    if level > 0 {
+                        let _ = writeln!(
+                            s,
+                            r##"<rect x="{:.2}" y="{sy}" width="{:.2}" height="{sh}" fill="{colour}" fill-opacity="{:.2}"/>"##,
+                            left + w * c as f64,
+                            w * (e - c) as f64,
+                            level as f64 / 20.0
+                        );
+                    }
+                    c = e;
+                }
+            }
+            for (marks, colour, my, mh) in [
+                (&self.truth, "#d62728", y + 2.0, 2.5),
+                (&self.chosen, "#000", y + 24.0, 3.0),
+            ] {
+                let mut c = 0;
+                while c < self.columns() {
+                    if marks[c] != k as u32 {
+                        c += 1;
+                        continue;
+                    }
+                    let mut e = c + 1;
+                    while e < self.columns() && marks[e] == k as u32 {
+                        e += 1;
+                    }
+                    let _ = writeln!(
+                        s,
+                        r##"<rect x="{:.2}" y="{my}" width="{:.2}" height="{mh}" fill="{colour}"/>"##,
+                        left + w * c as f64,
+                        w * (e - c) as f64
+                    );
+                    c = e;
+                }
+            }
+        }
+        let axis_y = top + row_h * n as f64 + 8.0;
+        for i in 0..=5 {
+            let x = left + width * i as f64 / 5.0;
+            let frame = (self.frames as f64 * i as f64 / 5.0).round() as u64;
+            let _ = writeln!(
+                s,
+                r##"<line x1="{x:.1}" y1="{}" x2="{x:.1}" y2="{}" stroke="#888"/><text x="{x:.1}" y="{}" text-anchor="middle">{frame}</text>"##,
+                axis_y - 4.0,
+                axis_y + 2.0,
+                axis_y + 16.0
+            );
+        }
+        let _ = writeln!(
+            s,
+            r##"<text x="{}" y="{}" text-anchor="middle" fill="#555">frame</text></svg>"##,
+            left + width / 2.0,
+            axis_y + 34.0
+        );
+        s
+    }
+}
+
+fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}

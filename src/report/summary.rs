@@ -1,0 +1,395 @@
+//! The summary of an evaluated stream: how many frames, how many decided, why the others were
+//! disoriented, what was rejected, and — when the stream carries ground truth — accuracy, the
+//! per-place confusion matrix, the *confidently wrong* rate and kidnap recoveries.
+//!
+//! [`Tally`] is fed one frame at a time into counters sized at construction (nothing allocated
+//! per frame; memory flat on any length); [`Tally::finish`] builds the serialisable [`Summary`].
+
+use crate::io::stream::{FrameMeta, Rejection};
+use crate::logic::{Decision, Disoriented};
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// Necessity at or above which a wrong decision counts as *confidently* wrong.
+pub const CONFIDENT: f64 = 0.9;
+
+/// A truth pose that moves more than this many metres beyond what odometry reports is a kidnap.
+pub const KIDNAP_JUMP: f64 = 1.0;
+
+/// At most this many kidnap events are listed one by one (all are counted).
+const MAX_LISTED_KIDNAPS: usize = 64;
+
+const REASONS: [&str; 4] = [
+    "nothing_above_threshold",
+    "too_close",
+    "inconsistent",
+    "no_places",
+];
+
+/// The reason name of a disoriented decision.
+pub fn reason_name(d: &Disoriented) -> &'static str {
+    match d {
+        Disoriented::NothingAboveThreshold { .. } => REASONS[0],
+        Disoriented::TooClose { .. } => REASONS[1],
+        Disoriented::Inconsistent { .. } => REASONS[2],
+        Disoriented::NoPlaces => REASONS[3],
+    }
+}
+
+/// One kidnap (truth teleport) and how long the decisions took to be right again.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Kidnap {
+    /// Line of the first frame after the jump.
+    pub line: u64,
+    /// Frames from that one (counted 1) to the first correct decision; `None` if never.
+    pub recovered_after: Option<u64>,
+}
+
+/// Accuracy against ground truth.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TruthSummary {
+    /// Frames whose truth is a place.
+    pub at_place: u64,
+    /// … decided for the true place.
+    pub correct: u64,
+    /// … decided for another place.
+    pub wrong: u64,
+    /// … disoriented.
+    pub disoriented: u64,
+    /// … wrong with necessity ≥ [`CONFIDENT`].
+    pub confidently_wrong: u64,
+    /// `correct / at_place`.
+    pub accuracy: f64,
+    /// `wrong / at_place`: the wrong-place rate.
+    pub wrong_rate: f64,
+    /// `confidently_wrong / at_place`.
+    pub confidently_wrong_rate: f64,
+    /// Frames whose truth is "between places".
+    pub between_places: u64,
+    /// … for which a place was nevertheless decided.
+    pub between_decided: u64,
+    /// Row labels: true places, then `none` (between places).
+    pub confusion_rows: Vec<String>,
+    /// Column labels: decided places, then `disoriented`.
+    pub confusion_columns: Vec<String>,
+    /// `confusion[row][column]` frame counts.
+    pub confusion: Vec<Vec<u64>>,
+    /// Kidnaps detected from the truth poses.
+    pub kidnaps: u64,
+    /// The first kidnaps, each with its recovery time.
+    pub kidnap_events: Vec<Kidnap>,
+    /// Mean frames to recover over the kidnaps that recovered.
+    pub mean_recovery_frames: Option<f64>,
+    /// Worst recovery, frames.
+    pub max_recovery_frames: Option<u64>,
+}
+
+/// Everything `lplace eval` reports about a stream.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Summary {
+    /// Whether tracking over the map graph was on.
+    pub tracking: bool,
+    /// Frames evaluated (records accepted).
+    pub frames: u64,
+    /// Frames with a place chosen.
+    pub decided: u64,
+    /// Disoriented frames by reason.
+    pub disoriented: BTreeMap<&'static str, u64>,
+    /// Records rejected.
+    pub rejected: u64,
+    /// Rejected records by kind.
+    pub rejected_by_kind: BTreeMap<&'static str, u64>,
+    /// Accuracy, when some frame carried truth.
+    pub truth: Option<TruthSummary>,
+}
+
+/// Running counters; see the module docs.
+#[derive(Debug, Clone)]
+pub struct Tally {
+    places: Vec<String>,
+    tracking: bool,
+    frames: u64,
+    decided: u64,
+    disoriented: [u64; 4],
+    rejected: u64,
+    rejected_by_kind: BTreeMap<&'static str, u64>,
+    with_truth: u64,
+    correct: u64,
+    wrong: u64,
+    truth_disoriented: u64,
+    confidently_wrong: u64,
+    between: u64,
+    between_decided: u64,
+    /// `(n + 1) × (n + 1)`: rows true place or none, columns decided place or disoriented.
+    confusion: Vec<u64>,
+    last_pose: Option<[f64; 3]>,
+    kidnaps: u64,
+    kidnap_events: Vec<Kidnap>,
+    /// Frames since the current unrecovered kidnap, if any.
+    pending_kidnap: Option<(u64, u64)>,
+    recovered_sum: u64,
+    recovered_count: u64,
+    recovered_max: Option<u64>,
+}
+
+impl Tally {
+    /// Counters for a map with these places.
+    pub fn new(places: Vec<String>, tracking: bool) -> Tally {
+        let n = places.len();
+        Tally {
+            places,
+            tracking,
+            frames: 0,
+            decided: 0,
+            disoriented: [0; 4],
+            rejected: 0,
+            rejected_by_kind: BTreeMap::new(),
+            with_truth: 0,
+            correct: 0,
+            wrong: 0,
+            truth_disoriented: 0,
+            confidently_wrong: 0,
+            between: 0,
+            between_decided: 0,
+            confusion: vec![0; (n + 1) * (n + 1)],
+            last_pose: None,
+            kidnaps: 0,
+            kidnap_events: Vec::new(),
+            pending_kidnap: None,
+            recovered_sum: 0,
+            recovered_count: 0,
+            recovered_max: None,
+        }
+    }
+
+    /// Counts a rejected record.
+    pub fn reject(&mut self, why: &Rejection) {
+        self.rejected += 1;
+        *self.rejected_by_kind.entry(why.kind()).or_insert(0) += 1;
+    }
+
+    /// Counts one evaluated frame.
+    pub fn record(&mut self, decision: Decision, meta: &FrameMeta) {
+        self.frames += 1;
+        let n = self.places.len();
+        let chosen = match decision {
+            Decision::Place { place, necessity } => {
+                self.decided += 1;
+                Some((place.min(n), necessity))
+            }
+            Decision::Disoriented(d) => {
+                let r = REASONS
+                    .iter()
+                    .position(|x| *x == reason_name(&d))
+                    .unwrap_or(0);
+                self.disoriented[r] += 1;
+                None
+            }
+        };
+        self.detect_kidnap(meta);
+        if !meta.truth_known {
+            return;
+        }
+        let row = meta.truth_place.map_or(n, |p| p.min(n));
+        let col = chosen.map_or(n, |(p, _)| p);
+        if let Some(c) = self.confusion.get_mut(row * (n + 1) + col) {
+            *c += 1;
+        }
+        match (meta.truth_place, chosen) {
+            (Some(t), Some((p, nec))) => {
+                self.with_truth += 1;
+                if t == p {
+                    self.correct += 1;
+                } else {
+                    self.wrong += 1;
+                    if nec >= CONFIDENT {
+                        self.confidently_wrong += 1;
+                    }
+                }
+            }
+            (Some(_), None) => {
+                self.with_truth += 1;
+                self.truth_disoriented += 1;
+            }
+            (None, c) => {
+                self.between += 1;
+                if c.is_some() {
+                    self.between_decided += 1;
+                }
+            }
+        }
+        if let Some((line, frames)) = self.pending_kidnap {
+            let frames = frames + 1;
+            let right = matches!((meta.truth_place, chosen), (Some(t), Some((p, _))) if t == p);
+            if right {
+                self.recovered_sum += frames;
+                self.recovered_count += 1;
+                self.recovered_max = Some(self.recovered_max.map_or(frames, |m| m.max(frames)));
+                if let Some(k) = self.kidnap_events.iter_mut().rev().find(|k| k.line == line) {
+                    k.recovered_after = Some(frames);
+                }
+                self.pending_kidnap = None;
+            } else {
+                self.pending_kidnap = Some((line, frames));
+            }
+        }
+    }
+
+    fn detect_kidnap(&mut self, meta: &FrameMeta) {
+        let Some(pose) = meta.truth_pose else {
+            return;
+        };
+        if let Some(prev) = self.last_pose {
+            let moved = (pose[0] - prev[0]).hypot(pose[1] - prev[1]);
+            let odo = meta.odometry.dx.hypot(meta.odometry.dy);
+            if moved > odo + KIDNAP_JUMP {
+                self.kidnaps += 1;
+                if self.kidnap_events.len() < MAX_LISTED_KIDNAPS {
+                    self.kidnap_events.push(Kidnap {
+                        line: meta.line,
+                        recovered_after: None,
+                    });
+                }
+                self.pending_kidnap = Some((meta.line, 0));
+            }
+        }
+        self.last_pose = Some(pose);
+    }
+
+    /// The summary so far.
+    pub fn finish(&self) -> Summary {
+        let n = self.places.len();
+        let rate = |a: u64| {
+            if self.with_truth == 0 {
+                0.0
+            } else {
+                a as f64 / self.with_truth as f64
+            }
+        };
+        let any_truth = self.with_truth + self.between > 0;
+        let truth = any_truth.then(|| TruthSummary {
+            at_place: self.with_truth,
+            correct: self.correct,
+            wrong: self.wrong,
+            disoriented: self.truth_disoriented,
+            confidently_wrong: self.confidently_wrong,
+            accuracy: rate(self.correct),
+            wrong_rate: rate(self.wrong),
+            confidently_wrong_rate: rate(self.confidently_wrong),
+            between_places: self.between,
+            between_decided: self.between_decided,
+            confusion_rows: self
+                .places
+                .iter()
+                .cloned()
+                .chain(std::iter::once("none".to_string()))
+                .collect(),
+            confusion_columns: self
+                .places
+                .iter()
+                .cloned()
+                .chain(std::iter::once("disoriented".to_string()))
+                .collect(),
+            confusion: self.confusion.chunks(n + 1).map(<[u64]>::to_vec).collect(),
+            kidnaps: self.kidnaps,
+            kidnap_events: self.kidnap_events.clone(),
+            mean_recovery_frames: (self.recovered_count > 0)
+                .then(|| self.recovered_sum as f64 / self.recovered_count as f64),
+            max_recovery_frames: self.recovered_max,
+        });
+        Summary {
+            tracking: self.tracking,
+            frames: self.frames,
+            decided: self.decided,
+            disoriented: REASONS
+                .iter()
+                .zip(self.disoriented)
+                .map(|(r, c)| (*r, c))
+                .collect(),
+            rejected: self.rejected,
+            rejected_by_kind: self.rejected_by_kind.clone(),
+            truth,
+        }
+    }
+}
+
+impl Summary {
+    /// Writes the summary for a person.
+    pub fn write_text(&self, out: &mut impl std::io::Write) -> std::io::Result<()> {
+        writeln!(
+            out,
+            "frames {}  decided {}  tracking {}",
+            self.frames,
+            self.decided,
+            if self.tracking { "on" } else { "off" }
+        )?;
+        let dis: Vec<String> = self
+            .disoriented
+            .iter()
+            .filter(|(_, c)| **c > 0)
+            .map(|(r, c)| format!("{r} {c}"))
+            .collect();
+        writeln!(
+            out,
+            "disoriented {}{}",
+            self.disoriented.values().sum::<u64>(),
+            if dis.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", dis.join(", "))
+            }
+        )?;
+        if self.rejected > 0 {
+            let kinds: Vec<String> = self
+                .rejected_by_kind
+                .iter()
+                .map(|(k, c)| format!("{k} {c}"))
+                .collect();
+            writeln!(out, "rejected {} ({})", self.rejected, kinds.join(", "))?;
+        }
+        let Some(t) = &self.truth else {
+            return Ok(());
+        };
+        writeln!(
+            out,
+            "at a place {}: correct {} ({:.1}%)  wrong {} ({:.1}%)  disoriented {}  confidently wrong {} ({:.1}%)",
+            t.at_place,
+            t.correct,
+            100.0 * t.accuracy,
+            t.wrong,
+            100.0 * t.wrong_rate,
+            t.disoriented,
+            t.confidently_wrong,
+            100.0 * t.confidently_wrong_rate
+        )?;
+        writeln!(
+            out,
+            "between places {}: a place decided in {}",
+            t.between_places, t.between_decided
+        )?;
+        if t.kidnaps > 0 {
+            writeln!(
+                out,
+                "kidnaps {}: mean recovery {} frames, worst {}",
+                t.kidnaps,
+                t.mean_recovery_frames
+                    .map_or("-".to_string(), |m| format!("{m:.1}")),
+                t.max_recovery_frames
+                    .map_or("never".to_string(), |m| m.to_string())
+            )?;
+        }
+        write!(out, "confusion (rows truth, columns decided):\n{:>6}", "")?;
+        for c in &t.confusion_columns {
+            write!(out, " {:>5}", if c == "disoriented" { "dis" } else { c })?;
+        }
+        writeln!(out)?;
+        for (r, row) in t.confusion_rows.iter().zip(&t.confusion) {
+            write!(out, "{r:>6}")?;
+            for c in row {
+                write!(out, " {c:>5}")?;
+            }
+            writeln!(out)?;
+        }
+        Ok(())
+    }
+}

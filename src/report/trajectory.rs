@@ -1,0 +1,184 @@
+//! The result of a run drawn over the map: each place's extent (box or disc, labelled), the
+//! paths between place centres, and the corrected trajectory as one dot per frame coloured by
+//! the decision — right (green), wrong (red) or disoriented (grey). Pure: it returns the SVG text
+//! and does no I/O. Depends on `map` only.
+
+use std::fmt::Write as _;
+
+use crate::map::{Extent, Map};
+
+/// How one frame's decision compares with the truth.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    /// A place was chosen and it is the true one.
+    Right,
+    /// A place was chosen and it is not the true one (or the robot is at no place).
+    Wrong,
+    /// No place was chosen.
+    Disoriented,
+}
+
+impl Verdict {
+    fn colour(self) -> &'static str {
+        match self {
+            Verdict::Right => "#1a9641",
+            Verdict::Wrong => "#d7191c",
+            Verdict::Disoriented => "#999999",
+        }
+    }
+}
+
+/// One frame of the picture: the corrected pose (metres, map frame) and the verdict.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrajectoryPoint {
+    /// x, metres.
+    pub x: f64,
+    /// y, metres.
+    pub y: f64,
+    /// The verdict.
+    pub verdict: Verdict,
+}
+
+/// Renders `points` over `map`'s places as an SVG document, `scale` pixels per metre (values
+/// that are not finite and positive fall back to 20). Non-finite points are left out. The map's
+/// y axis points up, so y is flipped.
+///
+/// # Example
+/// ```
+/// use lplace::report::trajectory::{svg, TrajectoryPoint, Verdict};
+/// let map = lplace::engine::Engine::office().unwrap().map().clone();
+/// let s = svg(&map, &[TrajectoryPoint { x: 0.5, y: 0.5, verdict: Verdict::Right }], 40.0, "demo");
+/// assert!(s.starts_with("<svg") && s.contains("P0") && s.contains("#1a9641"));
+/// ```
+pub fn svg(map: &Map, points: &[TrajectoryPoint], scale: f64, title: &str) -> String {
+    let scale = if scale.is_finite() && scale > 0.0 {
+        scale
+    } else {
+        20.0
+    };
+    // Bounds over every extent and every point, with a margin.
+    let (mut x0, mut y0, mut x1, mut y1) =
+        (f64::INFINITY, f64::INFINITY, -f64::INFINITY, -f64::INFINITY);
+    let mut grow = |x: f64, y: f64| {
+        if x.is_finite() && y.is_finite() {
+            x0 = x0.min(x);
+            y0 = y0.min(y);
+            x1 = x1.max(x);
+            y1 = y1.max(y);
+        }
+    };
+    for p in map.places() {
+        match p.extent {
+            Extent::Radius(r) => {
+                grow(p.pose.0 - r, p.pose.1 - r);
+                grow(p.pose.0 + r, p.pose.1 + r);
+            }
+            Extent::Box { x0, y0, x1, y1 } => {
+                grow(x0, y0);
+                grow(x1, y1);
+            }
+        }
+    }
+    for p in points {
+        grow(p.x, p.y);
+    }
+    if !x0.is_finite() {
+        (x0, y0, x1, y1) = (0.0, 0.0, 1.0, 1.0);
+    }
+    let m = 1.0;
+    let (x0, y0, x1, y1) = (x0 - m, y0 - m, x1 + m, y1 + m);
+    let header = 40.0;
+    let w = (x1 - x0) * scale;
+    let h = (y1 - y0) * scale + header;
+    let px = |x: f64| (x - x0) * scale;
+    let py = |y: f64| (y1 - y) * scale + header;
+
+    let mut s = String::new();
+    // Writing to a String cannot fail; the results are ignored for that reason.
+    let _ = writeln!(
+        s,
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}" viewBox="0 0 {w:.1} {h:.1}" font-family="sans-serif" font-size="11">"##
+    );
+    let _ = writeln!(s, r##"<rect width="100%" height="100%" fill="white"/>"##);
+    let counts = |v: Verdict| points.iter().filter(|p| p.verdict == v).count();
+    let _ = writeln!(
+        s,
+        r##"<text x="8" y="16" font-size="14">{}</text><text x="8" y="32"><tspan fill="{}">● right {}</tspan>  <tspan fill="{}">● wrong {}</tspan>  <tspan fill="{}">● disoriented {}</tspan></text>"##,
+        escape(title),
+        Verdict::Right.colour(),
+        counts(Verdict::Right),
+        Verdict::Wrong.colour(),
+        counts(Verdict::Wrong),
+        Verdict::Disoriented.colour(),
+        counts(Verdict::Disoriented)
+    );
+    for e in map.graph().edge_indices() {
+        let Some((a, b)) = map.graph().edge_endpoints(e) else {
+            continue;
+        };
+        let (Some(pa), Some(pb)) = (map.places().get(a.index()), map.places().get(b.index()))
+        else {
+            continue;
+        };
+        let _ = writeln!(
+            s,
+            r##"<line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="#c6dbef" stroke-width="1.5"/>"##,
+            px(pa.pose.0),
+            py(pa.pose.1),
+            px(pb.pose.0),
+            py(pb.pose.1)
+        );
+    }
+    for p in map.places() {
+        match p.extent {
+            Extent::Radius(r) => {
+                let _ = writeln!(
+                    s,
+                    r##"<circle cx="{:.1}" cy="{:.1}" r="{:.1}" fill="#f2f2f2" fill-opacity="0.5" stroke="#555"/>"##,
+                    px(p.pose.0),
+                    py(p.pose.1),
+                    r * scale
+                );
+            }
+            Extent::Box { x0, y0, x1, y1 } => {
+                let _ = writeln!(
+                    s,
+                    r##"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="#f2f2f2" fill-opacity="0.5" stroke="#555"/>"##,
+                    px(x0),
+                    py(y1),
+                    (x1 - x0) * scale,
+                    (y1 - y0) * scale
+                );
+            }
+        }
+    }
+    for p in points {
+        if p.x.is_finite() && p.y.is_finite() {
+            let _ = writeln!(
+                s,
+                r##"<circle cx="{:.1}" cy="{:.1}" r="2.2" fill="{}"/>"##,
+                px(p.x),
+                py(p.y),
+                p.verdict.colour()
+            );
+        }
+    }
+    for p in map.places() {
+        let _ = writeln!(
+            s,
+            r##"<text x="{:.1}" y="{:.1}" text-anchor="middle" fill="#08306b">{}</text>"##,
+            px(p.pose.0),
+            py(p.pose.1),
+            escape(&p.name)
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+fn escape(t: &str) -> String {
+    t.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}

@@ -1,0 +1,992 @@
+//! The checker: resolves a parsed rule file against a map and produces a [`RuleSet`] the compiler
+//! can trust — every atom names a known percept, predicate or built-in with the right arity,
+//! every argument fits its role, every variable that must be bound is, every constant and
+//! place parameter exists, every degree is in `[0, 1]`, the `logic` block and similarities are
+//! well formed, and every rule can fire. All problems are reported at once.
+//!
+//! Depends on `syntax::ast` (input), `syntax::diagnostic` (errors), `crate::map` (names, walls,
+//! parameters) and `crate::logic` (the `LogicConfig` and `Trapezoid` it produces).
+//!
+//! # Decisions
+//!
+//! - Built-in domains `Place`, `Room` and `Landmark` hold the map's names; a rule file may not
+//!   redeclare them. Built-in predicates `at_place`, `in_room`, `at_wall`, `at_corner` may not be
+//!   redeclared either.
+//! - A place parameter (`A_i`, `range_i(g)`) that **no** place of the map defines is an error (it
+//!   is almost certainly a typo); one that only some places define is fine — the comparison just
+//!   has no expectation at the others. `P_i` and `R_i` are always defined; `range_i(L)` and
+//!   `bearing_i(L)` with `L` a landmark are defined through geometry.
+//! - A rule whose body is 0 whatever the sensors say — because it needs a derived predicate (or
+//!   `at_place`/`in_room`) that no firing rule concludes — is an error: it is dead code that
+//!   usually hides a misspelt head.
+
+use super::ast::*;
+use super::diagnostic::{Diagnostic, DiagnosticKind, KeySuffix, NeverFiresReason};
+use super::span::{Span, Spanned};
+use crate::logic::{Implication, LogicConfig, Normalisation, TNorm, Trapezoid};
+use crate::map::Map;
+use std::collections::{BTreeMap, BTreeSet};
+
+/// Names that rule files may not declare as domains.
+pub const BUILTIN_DOMAINS: [&str; 3] = ["Place", "Room", "Landmark"];
+/// Names that rule files may not declare as percepts or predicates.
+pub const BUILTIN_PREDICATES: [&str; 4] = ["at_place", "in_room", "at_wall", "at_corner"];
+
+/// The declared shape of a percept or derived predicate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Signature {
+    /// Its name.
+    pub name: String,
+    /// The role of each argument position.
+    pub roles: Vec<ArgRole>,
+    /// For percepts with an `expect` role: the similarity comparing value and expectation.
+    pub similarity: Option<String>,
+    /// The declaration.
+    pub span: Span,
+}
+
+/// A checked rule file, resolved against a map.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RuleSet {
+    /// Operators and decision parameters (defaults for whatever `logic { … }` leaves out).
+    pub logic: LogicConfig,
+    /// Every domain with its values in declaration order, including the built-in `Place`,
+    /// `Room` and `Landmark` filled from the map.
+    pub domains: BTreeMap<String, Vec<String>>,
+    /// Similarities by name.
+    pub similarities: BTreeMap<String, Trapezoid>,
+    /// Percepts by name.
+    pub percepts: BTreeMap<String, Signature>,
+    /// Derived predicates by name.
+    pub predicates: BTreeMap<String, Signature>,
+    /// The rules in source order.
+    pub rules: Vec<Rule>,
+}
+
+/// Checks `file` against `map`; returns the rule set or every problem found, sorted by position.
+/// Every returned diagnostic points into the rule file. Call [`check_map_against_rules`]
+/// afterwards for the problems of the map that only the rule file reveals.
+pub fn check_rules(file: &RuleFile, map: &Map) -> Result<RuleSet, Vec<Diagnostic>> {
+    let mut c = Checker {
+        map,
+        diags: Vec::new(),
+        set: RuleSet {
+            logic: LogicConfig::default(),
+            domains: BTreeMap::new(),
+            similarities: BTreeMap::new(),
+            percepts: BTreeMap::new(),
+            predicates: BTreeMap::new(),
+            rules: Vec::new(),
+        },
+        domain_spans: BTreeMap::new(),
+    };
+    c.builtin_domains();
+    c.declarations(file);
+    for item in &file.items {
+        if let RuleItem::Rule(r) = item {
+            c.rule(r);
+        }
+    }
+    c.never_fires();
+    // The map's directions are checked separately (`check_map_against_rules`): those
+    // diagnostics point into the map file, not this one.
+    let Checker { mut diags, set, .. } = c;
+    if diags.iter().any(Diagnostic::is_error) {
+        diags.sort_by_key(|d| (d.span.start, d.span.end));
+        Err(diags)
+    } else {
+        Ok(set)
+    }
+}
+
+/// Checks the map's `wall` and `corner` directions against the rule set's `Dir` domain (when it
+/// declares one). The diagnostics point into the **map** file.
+pub fn check_map_against_rules(map: &Map, rules: &RuleSet) -> Vec<Diagnostic> {
+    let Some(dirs) = rules.domains.get("Dir") else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for p in map.places() {
+        for (d, span) in &p.direction_spans {
+            if !dirs.contains(d) {
+                out.push(Diagnostic::error(
+                    DiagnosticKind::UnknownDirection { name: d.clone() },
+                    *span,
+                ));
+            }
+        }
+    }
+    out
+}
+
+struct Checker<'m> {
+    map: &'m Map,
+    diags: Vec<Diagnostic>,
+    set: RuleSet,
+    domain_spans: BTreeMap<String, Span>,
+}
+
+/// What a rule binds: schema variables (with their candidate values) and percept value
+/// variables (with the percept that binds them).
+#[derive(Default)]
+struct Bindings {
+    schema: BTreeMap<String, Vec<String>>,
+    values: BTreeMap<String, String>,
+}
+
+fn in_unit(x: f64) -> bool {
+    (0.0..=1.0).contains(&x)
+}
+
+impl Checker<'_> {
+    fn err(&mut self, kind: DiagnosticKind, span: Span) {
+        self.diags.push(Diagnostic::error(kind, span));
+    }
+
+    fn dup(&mut self, what: &'static str, name: &Spanned<String>, first: Span) {
+        self.diags.push(
+            Diagnostic::error(
+                DiagnosticKind::DuplicateName {
+                    what,
+                    name: name.node.clone(),
+                },
+                name.span,
+            )
+            .with_related(first, "first defined here"),
+        );
+    }
+
+    fn builtin_domains(&mut self) {
+        let m = self.map;
+        let d = &mut self.set.domains;
+        d.insert(
+            "Place".into(),
+            m.places().iter().map(|p| p.name.clone()).collect(),
+        );
+        d.insert(
+            "Room".into(),
+            m.rooms().iter().map(|r| r.name.clone()).collect(),
+        );
+        d.insert(
+            "Landmark".into(),
+            m.landmarks().iter().map(|l| l.name.clone()).collect(),
+        );
+    }
+
+    fn declarations(&mut self, file: &RuleFile) {
+        let mut logic_seen: Option<Span> = None;
+        let mut pred_spans: BTreeMap<String, Span> = BTreeMap::new();
+        let mut sim_spans: BTreeMap<String, Span> = BTreeMap::new();
+        // Domains and similarities first, so that percepts can refer to later ones.
+        for item in &file.items {
+            match item {
+                RuleItem::Logic(l) => {
+                    if let Some(first) = logic_seen {
+                        self.diags.push(
+                            Diagnostic::error(
+                                DiagnosticKind::DuplicateName {
+                                    what: "logic block",
+                                    name: "logic".into(),
+                                },
+                                l.span,
+                            )
+                            .with_related(first, "first defined here"),
+                        );
+                    } else {
+                        logic_seen = Some(l.span);
+                        self.logic(l);
+                    }
+                }
+                RuleItem::Domain(d) => self.domain(d),
+                RuleItem::Similarity(s) => {
+                    if let Some(first) = sim_spans.get(&s.name.node) {
+                        let first = *first;
+                        self.dup("similarity", &s.name, first);
+                    } else {
+                        sim_spans.insert(s.name.node.clone(), s.name.span);
+                        if let Some(t) = self.similarity(s) {
+                            self.set.similarities.insert(s.name.node.clone(), t);
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        for item in &file.items {
+            let (name, roles, similarity, span, is_percept) = match item {
+                RuleItem::Percept(p) => (&p.name, &p.roles, p.similarity.as_ref(), p.span, true),
+                RuleItem::Predicate(p) => (&p.name, &p.roles, None, p.span, false),
+                _ => continue,
+            };
+            if BUILTIN_PREDICATES.contains(&name.node.as_str()) {
+                self.err(
+                    DiagnosticKind::ReservedName {
+                        name: name.node.clone(),
+                    },
+                    name.span,
+                );
+                continue;
+            }
+            if let Some(first) = pred_spans.get(&name.node) {
+                let first = *first;
+                self.dup(
+                    if is_percept { "percept" } else { "predicate" },
+                    name,
+                    first,
+                );
+                continue;
+            }
+            pred_spans.insert(name.node.clone(), name.span);
+            for r in roles {
+                if let ArgRole::Domain(d) = &r.node {
+                    if !self.set.domains.contains_key(d) {
+                        self.err(DiagnosticKind::UnknownDomain { name: d.clone() }, r.span);
+                    }
+                }
+            }
+            if let Some(s) = similarity {
+                if !self.set.similarities.contains_key(&s.node) && !sim_spans.contains_key(&s.node)
+                {
+                    self.err(
+                        DiagnosticKind::UnknownSimilarity {
+                            name: s.node.clone(),
+                        },
+                        s.span,
+                    );
+                }
+            } else if is_percept && roles.iter().any(|r| r.node == ArgRole::Expect) {
+                self.err(
+                    DiagnosticKind::ExpectWithoutSimilarity {
+                        percept: name.node.clone(),
+                    },
+                    name.span,
+                );
+            }
+            let sig = Signature {
+                name: name.node.clone(),
+                roles: roles.iter().map(|r| r.node.clone()).collect(),
+                similarity: similarity.map(|s| s.node.clone()),
+                span,
+            };
+            if is_percept {
+                self.set.percepts.insert(name.node.clone(), sig);
+            } else {
+                self.set.predicates.insert(name.node.clone(), sig);
+            }
+        }
+    }
+
+    fn logic(&mut self, l: &LogicBlock) {
+        let mut seen: BTreeMap<&str, Span> = BTreeMap::new();
+        for s in &l.settings {
+            let key = s.key.node.as_str();
+            if let Some(first) = seen.get(key) {
+                let first = *first;
+                self.dup("setting", &s.key, first);
+                continue;
+            }
+            seen.insert(key, s.key.span);
+            let bad = |expected: &'static str| DiagnosticKind::BadSettingValue {
+                key: key.to_string(),
+                expected,
+            };
+            let word = match &s.value.node {
+                SettingValue::Word(w) => Some(w.as_str()),
+                SettingValue::Number(_) => None,
+            };
+            let number = match &s.value.node {
+                SettingValue::Number(x) => Some(*x),
+                SettingValue::Word(_) => None,
+            };
+            match key {
+                "tnorm" => match word {
+                    Some("min") => self.set.logic.tnorm = TNorm::Min,
+                    Some("product") => self.set.logic.tnorm = TNorm::Product,
+                    Some("lukasiewicz") => self.set.logic.tnorm = TNorm::Lukasiewicz,
+                    _ => self.err(bad("min, product or lukasiewicz"), s.value.span),
+                },
+                "implication" => match word {
+                    Some("residuum") => self.set.logic.implication = Implication::Residuum,
+                    Some("min_mp") => self.set.logic.implication = Implication::MinMp,
+                    _ => self.err(bad("residuum or min_mp"), s.value.span),
+                },
+                "normalisation" | "normalization" => match word {
+                    Some("min") => self.set.logic.normalisation = Normalisation::Min,
+                    Some("product") => self.set.logic.normalisation = Normalisation::Product,
+                    _ => self.err(bad("min or product"), s.value.span),
+                },
+                "threshold" | "margin" => match number {
+                    Some(x) if in_unit(x) => {
+                        if key == "threshold" {
+                            self.set.logic.threshold = x;
+                        } else {
+                            self.set.logic.margin = x;
+                        }
+                    }
+                    _ => self.err(bad("a number in [0, 1]"), s.value.span),
+                },
+                _ => self.err(
+                    DiagnosticKind::UnknownSetting {
+                        key: key.to_string(),
+                    },
+                    s.key.span,
+                ),
+            }
+        }
+    }
+
+    fn domain(&mut self, d: &DomainDecl) {
+        let name = &d.name.node;
+        if BUILTIN_DOMAINS.contains(&name.as_str()) {
+            self.err(
+                DiagnosticKind::ReservedName { name: name.clone() },
+                d.name.span,
+            );
+            return;
+        }
+        if let Some(first) = self.domain_spans.get(name) {
+            let first = *first;
+            self.dup("domain", &d.name, first);
+            return;
+        }
+        self.domain_spans.insert(name.clone(), d.name.span);
+        let mut values: Vec<String> = Vec::new();
+        let mut spans: BTreeMap<&str, Span> = BTreeMap::new();
+        for v in &d.values {
+            if let Some(first) = spans.get(v.node.as_str()) {
+                let first = *first;
+                self.dup("domain value", v, first);
+                continue;
+            }
+            spans.insert(&v.node, v.span);
+            values.push(v.node.clone());
+        }
+        self.set.domains.insert(name.clone(), values);
+    }
+
+    fn similarity(&mut self, s: &SimilarityDecl) -> Option<Trapezoid> {
+        if s.shape.node != "trapezoid" {
+            self.err(
+                DiagnosticKind::UnknownShape {
+                    name: s.shape.node.clone(),
+                },
+                s.shape.span,
+            );
+            return None;
+        }
+        let mut t = Trapezoid::default();
+        let mut seen: BTreeMap<&str, Span> = BTreeMap::new();
+        let mut ok = true;
+        let mut height_span = None;
+        for (k, v) in &s.fields {
+            if let Some(first) = seen.get(k.node.as_str()) {
+                let first = *first;
+                self.dup("field", k, first);
+                ok = false;
+                continue;
+            }
+            seen.insert(&k.node, k.span);
+            let x = v.node;
+            let bad = |requirement: &'static str| DiagnosticKind::BadFieldValue {
+                field: k.node.clone(),
+                value: x,
+                requirement,
+            };
+            match k.node.as_str() {
+                "core" | "slope" if x < 0.0 => {
+                    self.err(bad("must be non-negative"), v.span);
+                    ok = false;
+                }
+                "period" if x <= 0.0 => {
+                    self.err(bad("must be positive"), v.span);
+                    ok = false;
+                }
+                "height" | "bias" if !in_unit(x) => {
+                    self.err(bad("must be in [0, 1]"), v.span);
+                    ok = false;
+                }
+                "core" => t.core = x,
+                "slope" => t.slope = x,
+                "period" => t.period = Some(x),
+                "height" => {
+                    t.height = x;
+                    height_span = Some(v.span);
+                }
+                "bias" => t.bias = x,
+                _ => {
+                    self.err(
+                        DiagnosticKind::UnknownField {
+                            field: k.node.clone(),
+                        },
+                        k.span,
+                    );
+                    ok = false;
+                }
+            }
+        }
+        if ok && t.bias > t.height {
+            let span = s
+                .fields
+                .iter()
+                .find(|(k, _)| k.node == "bias")
+                .map(|(_, v)| v.span)
+                .or(height_span)
+                .unwrap_or(s.span);
+            self.err(
+                DiagnosticKind::BadFieldValue {
+                    field: "bias".into(),
+                    value: t.bias,
+                    requirement: "must not exceed the height",
+                },
+                span,
+            );
+            ok = false;
+        }
+        ok.then_some(t)
+    }
+
+    // ----- rules ---------------------------------------------------------------------------
+
+    fn rule(&mut self, r: &Rule) {
+        let mut b = Bindings::default();
+        // Domains of schema variables, inferred from the domain positions they occupy.
+        let mut uses: BTreeMap<String, String> = BTreeMap::new();
+        collect_var_domains(&r.body.node, &self.set, &mut uses);
+        collect_atom_var_domains(&r.head.atom, &self.set, &mut uses);
+        for s in &r.schemas {
+            self.schema(s, &uses, &mut b);
+        }
+        collect_values(&r.body.node, &self.set, &mut b.values);
+        self.formula(&r.body, &b);
+        if let Some(w) = &r.weight {
+            if !in_unit(w.node) {
+                self.err(DiagnosticKind::DegreeOutOfRange { value: w.node }, w.span);
+            }
+        }
+        // The head.
+        let name = r.head.atom.name.node.as_str();
+        let head_ok =
+            matches!(name, "at_place" | "in_room") || self.set.predicates.contains_key(name);
+        if head_ok {
+            self.atom(&r.head.atom, &b);
+        } else {
+            self.err(
+                DiagnosticKind::BadHead {
+                    name: name.to_string(),
+                },
+                r.head.atom.name.span,
+            );
+        }
+        self.set.rules.push(r.clone());
+    }
+
+    fn schema(&mut self, s: &Schema, uses: &BTreeMap<String, String>, b: &mut Bindings) {
+        let tuples: Vec<Vec<&Spanned<String>>> = match &s.source {
+            SchemaSource::Domain(d) => {
+                if s.vars.len() != 1 {
+                    self.err(
+                        DiagnosticKind::SchemaArity {
+                            expected: s.vars.len(),
+                            found: 1,
+                        },
+                        d.span,
+                    );
+                    return;
+                }
+                let Some(values) = self.set.domains.get(&d.node).cloned() else {
+                    self.err(
+                        DiagnosticKind::UnknownDomain {
+                            name: d.node.clone(),
+                        },
+                        d.span,
+                    );
+                    // Still bind the variable, so that its uses do not cascade into errors.
+                    b.schema.insert(s.vars[0].node.clone(), Vec::new());
+                    return;
+                };
+                if let Some(used) = uses.get(&s.vars[0].node) {
+                    if used != &d.node {
+                        self.err(
+                            DiagnosticKind::UnknownDomainValue {
+                                domain: used.clone(),
+                                value: d.node.clone(),
+                            },
+                            d.span,
+                        );
+                    }
+                }
+                b.schema.insert(s.vars[0].node.clone(), values);
+                return;
+            }
+            SchemaSource::Tuples(ts) => ts.iter().map(|t| t.node.iter().collect()).collect(),
+        };
+        let SchemaSource::Tuples(ts) = &s.source else {
+            return;
+        };
+        let mut values: Vec<Vec<String>> = vec![Vec::new(); s.vars.len()];
+        for (t, spanned) in tuples.iter().zip(ts) {
+            if t.len() != s.vars.len() {
+                self.err(
+                    DiagnosticKind::SchemaArity {
+                        expected: s.vars.len(),
+                        found: t.len(),
+                    },
+                    spanned.span,
+                );
+                continue;
+            }
+            for (i, (var, val)) in s.vars.iter().zip(t).enumerate() {
+                match uses.get(&var.node) {
+                    Some(dom) => {
+                        self.constant_in(dom, val);
+                    }
+                    None => {
+                        let known = self.set.domains.values().any(|vs| vs.contains(&val.node));
+                        if !known {
+                            self.err(
+                                DiagnosticKind::UnknownDomainValue {
+                                    domain: "any domain".into(),
+                                    value: val.node.clone(),
+                                },
+                                val.span,
+                            );
+                        }
+                    }
+                }
+                values[i].push(val.node.clone());
+            }
+        }
+        for (var, vals) in s.vars.iter().zip(values) {
+            b.schema.insert(var.node.clone(), vals);
+        }
+    }
+
+    /// Checks that constant `c` is a value of domain `dom`.
+    fn constant_in(&mut self, dom: &str, c: &Spanned<String>) {
+        let Some(values) = self.set.domains.get(dom) else {
+            return; // unknown domain: reported at the declaration
+        };
+        if values.contains(&c.node) {
+            return;
+        }
+        let name = c.node.clone();
+        let kind = match dom {
+            "Place" => DiagnosticKind::UnknownPlace { name },
+            "Room" => DiagnosticKind::UnknownRoom { name },
+            "Landmark" => DiagnosticKind::UnknownLandmark { name },
+            _ => DiagnosticKind::UnknownDomainValue {
+                domain: dom.to_string(),
+                value: name,
+            },
+        };
+        self.err(kind, c.span);
+    }
+
+    fn formula(&mut self, f: &Spanned<Formula>, b: &Bindings) {
+        match &f.node {
+            Formula::Atom(a) => self.atom(a, b),
+            Formula::Degree(x) => {
+                if !in_unit(*x) {
+                    self.err(DiagnosticKind::DegreeOutOfRange { value: *x }, f.span);
+                }
+            }
+            Formula::Not(x) => self.formula(x, b),
+            Formula::And(v) | Formula::Times(v) | Formula::Or(v) => {
+                v.iter().for_each(|x| self.formula(x, b))
+            }
+            Formula::Implies(x, y) => {
+                self.formula(x, b);
+                self.formula(y, b);
+            }
+            Formula::Weighted(x, w) => {
+                self.formula(x, b);
+                if !in_unit(w.node) {
+                    self.err(DiagnosticKind::DegreeOutOfRange { value: w.node }, w.span);
+                }
+            }
+        }
+    }
+
+    fn arity(&mut self, a: &Atom, expected: usize) -> bool {
+        if a.args.len() == expected {
+            return true;
+        }
+        self.err(
+            DiagnosticKind::ArityMismatch {
+                name: a.name.node.clone(),
+                expected,
+                found: a.args.len(),
+            },
+            a.span,
+        );
+        false
+    }
+
+    fn bad_arg(&mut self, a: &Atom, i: usize, expected: &'static str) {
+        self.err(
+            DiagnosticKind::BadArgument {
+                name: a.name.node.clone(),
+                position: i + 1,
+                expected,
+            },
+            a.args[i].span,
+        );
+    }
+
+    fn atom(&mut self, a: &Atom, b: &Bindings) {
+        let name = a.name.node.as_str();
+        match name {
+            "at_place" | "in_room" => {
+                if !self.arity(a, 1) {
+                    return;
+                }
+                let (dom, own) = if name == "at_place" {
+                    ("Place", "P")
+                } else {
+                    ("Room", "R")
+                };
+                match &a.args[0].node {
+                    Term::PlaceRef { name: n, key: None } if n == own => {}
+                    _ => {
+                        let expected = if name == "at_place" {
+                            "`P_i`, a place name or a `for all` variable over Place"
+                        } else {
+                            "`R_i`, a room name or a `for all` variable over Room"
+                        };
+                        self.domain_arg(a, 0, dom, b, expected);
+                    }
+                }
+            }
+            "at_wall" | "at_corner" => {
+                if !self.arity(a, 2) {
+                    return;
+                }
+                let relation: &'static str = if name == "at_wall" {
+                    "at_wall"
+                } else {
+                    "at_corner"
+                };
+                let needed = if name == "at_wall" { 1 } else { 2 };
+                match &a.args[0].node {
+                    Term::Var(v) => match b.values.get(v) {
+                        Some(p) => {
+                            let dirs = self.set.percepts.get(p).map_or(0, |s| {
+                                s.roles
+                                    .iter()
+                                    .filter(|r| matches!(r, ArgRole::Domain(d) if d == "Dir"))
+                                    .count()
+                            });
+                            if dirs < needed {
+                                self.err(
+                                    DiagnosticKind::MapRelationNeedsDirections {
+                                        relation,
+                                        percept: p.clone(),
+                                        needed,
+                                        found: dirs,
+                                    },
+                                    a.args[0].span,
+                                );
+                            }
+                        }
+                        None => self.err(
+                            DiagnosticKind::MapRelationUnbound {
+                                relation,
+                                var: v.clone(),
+                            },
+                            a.args[0].span,
+                        ),
+                    },
+                    _ => self.bad_arg(a, 0, "a variable bound by a percept's value"),
+                }
+                if a.args[1].node != Term::Time {
+                    self.bad_arg(a, 1, "the time `t`");
+                }
+            }
+            _ => {
+                let sig = self
+                    .set
+                    .percepts
+                    .get(name)
+                    .map(|s| (s.roles.clone(), true))
+                    .or_else(|| {
+                        self.set
+                            .predicates
+                            .get(name)
+                            .map(|s| (s.roles.clone(), false))
+                    });
+                let Some((roles, is_percept)) = sig else {
+                    self.err(
+                        DiagnosticKind::UnknownPredicate {
+                            name: name.to_string(),
+                        },
+                        a.name.span,
+                    );
+                    return;
+                };
+                if !self.arity(a, roles.len()) {
+                    return;
+                }
+                for (i, role) in roles.iter().enumerate() {
+                    match role {
+                        ArgRole::Domain(d) => self.domain_arg(
+                            a,
+                            i,
+                            d,
+                            b,
+                            "a value of the domain or a `for all` variable",
+                        ),
+                        ArgRole::Time => {
+                            if a.args[i].node != Term::Time {
+                                self.bad_arg(a, i, "the time `t`");
+                            }
+                        }
+                        ArgRole::Value => {
+                            if is_percept && !is_value_pattern(&a.args[i].node) {
+                                self.bad_arg(a, i, "a variable or a tuple of variables");
+                            }
+                        }
+                        ArgRole::Expect => {
+                            if is_percept && !is_expectation(&a.args[i].node) {
+                                self.bad_arg(a, i, "a place parameter like `A_i` or a number");
+                            } else {
+                                self.expectation(&a.args[i], b);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Checks argument `i` of `a` in a position of domain `dom`.
+    fn domain_arg(&mut self, a: &Atom, i: usize, dom: &str, b: &Bindings, expected: &'static str) {
+        let arg = &a.args[i];
+        match &arg.node {
+            Term::Const(c) => self.constant_in(dom, &Spanned::new(c.clone(), arg.span)),
+            Term::Var(v) => {
+                if !b.schema.contains_key(v) {
+                    self.err(
+                        DiagnosticKind::UnboundVariable { name: v.clone() },
+                        arg.span,
+                    );
+                }
+            }
+            Term::PlaceRef { name, key: None }
+                if (name == "P" && dom == "Place") || (name == "R" && dom == "Room") => {}
+            _ => self.bad_arg(a, i, expected),
+        }
+    }
+
+    /// Checks the place parameters mentioned in an `expect` argument.
+    fn expectation(&mut self, t: &Spanned<Term>, b: &Bindings) {
+        match &t.node {
+            Term::Tuple(ts) => ts.iter().for_each(|x| self.expectation(x, b)),
+            Term::PlaceRef { name, key } => {
+                if key.is_none() && (name == "P" || name == "R") {
+                    return;
+                }
+                let keys: Vec<Option<String>> = match key {
+                    None => vec![None],
+                    Some(k) if k.starts_with(|c: char| c.is_ascii_uppercase()) => {
+                        vec![Some(k.clone())]
+                    }
+                    Some(k) => match b.schema.get(k) {
+                        Some(vals) => vals.iter().cloned().map(Some).collect(),
+                        None => {
+                            self.err(DiagnosticKind::UnboundVariable { name: k.clone() }, t.span);
+                            return;
+                        }
+                    },
+                };
+                let defined = keys
+                    .iter()
+                    .any(|k| self.map.defines_param(name, k.as_deref()));
+                if !defined && !keys.is_empty() {
+                    self.err(
+                        DiagnosticKind::UndefinedParameter {
+                            name: name.clone(),
+                            key: KeySuffix(key.clone()),
+                        },
+                        t.span,
+                    );
+                }
+            }
+            _ => {}
+        }
+    }
+
+    // ----- rules that can never fire --------------------------------------------------------
+
+    fn never_fires(&mut self) {
+        let rules = &self.set.rules;
+        let mut concluded: BTreeSet<&str> = rules
+            .iter()
+            .map(|r| r.head.atom.name.node.as_str())
+            .collect();
+        let mut reasons: Vec<Option<NeverFiresReason>>;
+        loop {
+            reasons = rules
+                .iter()
+                .map(|r| {
+                    if r.schemas
+                        .iter()
+                        .any(|s| schema_is_empty(s, &self.set.domains))
+                    {
+                        return Some(NeverFiresReason::EmptySchema);
+                    }
+                    zero_reason(&r.body.node, &self.set, &concluded)
+                })
+                .collect();
+            let next: BTreeSet<&str> = rules
+                .iter()
+                .zip(&reasons)
+                .filter(|(_, z)| z.is_none())
+                .map(|(r, _)| r.head.atom.name.node.as_str())
+                .collect();
+            if next == concluded {
+                break;
+            }
+            concluded = next;
+        }
+        let found: Vec<Diagnostic> = rules
+            .iter()
+            .zip(reasons)
+            .filter_map(|(r, z)| {
+                z.map(|reason| Diagnostic::error(DiagnosticKind::RuleNeverFires { reason }, r.span))
+            })
+            .collect();
+        self.diags.extend(found);
+    }
+}
+
+fn schema_is_empty(s: &Schema, domains: &BTreeMap<String, Vec<String>>) -> bool {
+    match &s.source {
+        SchemaSource::Domain(d) => domains.get(&d.node).is_some_and(|v| v.is_empty()),
+        SchemaSource::Tuples(ts) => ts.is_empty(),
+    }
+}
+
+/// Why `f` is 0 whatever the sensors say, given the predicates that some firing rule concludes
+/// (`None` when it can be positive).
+fn zero_reason(f: &Formula, set: &RuleSet, concluded: &BTreeSet<&str>) -> Option<NeverFiresReason> {
+    match f {
+        Formula::Atom(a) => {
+            let n = a.name.node.as_str();
+            let derived = matches!(n, "at_place" | "in_room") || set.predicates.contains_key(n);
+            (derived && !concluded.contains(n)).then(|| NeverFiresReason::NeverConcluded {
+                predicate: n.to_string(),
+            })
+        }
+        Formula::Degree(x) => (*x <= 0.0).then_some(NeverFiresReason::AlwaysZero),
+        Formula::Not(_) | Formula::Implies(_, _) => None,
+        Formula::And(v) | Formula::Times(v) => {
+            v.iter().find_map(|x| zero_reason(&x.node, set, concluded))
+        }
+        Formula::Or(v) => {
+            let mut first = None;
+            for x in v {
+                match zero_reason(&x.node, set, concluded) {
+                    None => return None,
+                    Some(r) => {
+                        first.get_or_insert(r);
+                    }
+                }
+            }
+            first
+        }
+        Formula::Weighted(x, w) => zero_reason(&x.node, set, concluded)
+            .or((w.node <= 0.0).then_some(NeverFiresReason::AlwaysZero)),
+    }
+}
+
+/// A `value` argument of a percept: a variable or a tuple of them.
+fn is_value_pattern(t: &Term) -> bool {
+    match t {
+        Term::Var(_) => true,
+        Term::Tuple(ts) => ts.iter().all(|x| is_value_pattern(&x.node)),
+        _ => false,
+    }
+}
+
+/// An `expect` argument of a percept: a place parameter, a number, or a tuple of them.
+fn is_expectation(t: &Term) -> bool {
+    match t {
+        Term::PlaceRef { .. } | Term::Number(_) => true,
+        Term::Tuple(ts) => ts.iter().all(|x| is_expectation(&x.node)),
+        _ => false,
+    }
+}
+
+/// Records, for each variable in a domain position of a percept or predicate atom of `f`, the
+/// domain of that position (first use wins).
+fn collect_var_domains(f: &Formula, set: &RuleSet, out: &mut BTreeMap<String, String>) {
+    match f {
+        Formula::Atom(a) => collect_atom_var_domains(a, set, out),
+        Formula::Degree(_) => {}
+        Formula::Not(x) | Formula::Weighted(x, _) => collect_var_domains(&x.node, set, out),
+        Formula::And(v) | Formula::Times(v) | Formula::Or(v) => v
+            .iter()
+            .for_each(|x| collect_var_domains(&x.node, set, out)),
+        Formula::Implies(x, y) => {
+            collect_var_domains(&x.node, set, out);
+            collect_var_domains(&y.node, set, out);
+        }
+    }
+}
+
+fn collect_atom_var_domains(a: &Atom, set: &RuleSet, out: &mut BTreeMap<String, String>) {
+    let n = a.name.node.as_str();
+    let roles: Vec<ArgRole> = match n {
+        "at_place" => vec![ArgRole::Domain("Place".into())],
+        "in_room" => vec![ArgRole::Domain("Room".into())],
+        _ => match set.percepts.get(n).or_else(|| set.predicates.get(n)) {
+            Some(s) => s.roles.clone(),
+            None => return,
+        },
+    };
+    for (r, t) in roles.iter().zip(&a.args) {
+        if let (ArgRole::Domain(d), Term::Var(v)) = (r, &t.node) {
+            out.entry(v.clone()).or_insert_with(|| d.clone());
+        }
+        // Keys of place parameters (`range_i(g)`) range over landmarks.
+        if let Term::PlaceRef { key: Some(k), .. } = &t.node {
+            if !k.starts_with(|c: char| c.is_ascii_uppercase()) {
+                out.entry(k.clone()).or_insert_with(|| "Landmark".into());
+            }
+        }
+    }
+}
+
+/// Records the variables in `value` positions of percept atoms of `f`, with their percept.
+fn collect_values(f: &Formula, set: &RuleSet, out: &mut BTreeMap<String, String>) {
+    match f {
+        Formula::Atom(a) => {
+            if let Some(s) = set.percepts.get(&a.name.node) {
+                for (r, t) in s.roles.iter().zip(&a.args) {
+                    if *r == ArgRole::Value {
+                        value_vars(&t.node, &a.name.node, out);
+                    }
+                }
+            }
+        }
+        Formula::Degree(_) => {}
+        Formula::Not(x) | Formula::Weighted(x, _) => collect_values(&x.node, set, out),
+        Formula::And(v) | Formula::Times(v) | Formula::Or(v) => {
+            v.iter().for_each(|x| collect_values(&x.node, set, out))
+        }
+        Formula::Implies(x, y) => {
+            collect_values(&x.node, set, out);
+            collect_values(&y.node, set, out);
+        }
+    }
+}
+
+fn value_vars(t: &Term, percept: &str, out: &mut BTreeMap<String, String>) {
+    match t {
+        Term::Var(v) => {
+            out.entry(v.clone()).or_insert_with(|| percept.to_string());
+        }
+        Term::Tuple(ts) => ts.iter().for_each(|x| value_vars(&x.node, percept, out)),
+        _ => {}
+    }
+}

@@ -1,0 +1,293 @@
+//! End-to-end tests of `lplace eval` over streams: hand-worked decisions, every exit code, each
+//! kind of bad input (with its line number), the bundled recording, tracking on vs off, the plot.
+
+use assert_cmd::Command;
+use std::path::PathBuf;
+
+fn lplace() -> Command {
+    Command::cargo_bin("lplace").expect("the lplace binary is built")
+}
+
+/// A file in the temp directory, unique to this test process and name.
+fn temp(name: &str, text: &str) -> PathBuf {
+    let p = std::env::temp_dir().join(format!("lplace-cli-eval-{}-{name}", std::process::id()));
+    std::fs::write(&p, text).expect("temp file is writable");
+    p
+}
+
+/// The robot at P1 of the office (the frame of the crate docs).
+///
+/// Worked by hand from `rules/office.lpl` and `maps/office.map`, context P1 (A = 167.5, L = 4.61):
+/// beacon_angle 167 is within the core (±10°) → min(0.9, 1) = 0.9; beacon_distance 4.5 within
+/// ±0.3 m → min(0.8, 1) = 0.8; beacon_signature = min(0.9, 0.8) = 0.8. corner(North, West) =
+/// min(sonar_wall(North) 0.9, laser_wall(West) 0.8) = 0.8 (P1 has both walls). Corner rule:
+/// 0.8 · 0.8 · 0.95 = 0.608; walls rule: 0.8 · min(0.9, 1) · 0.8 = 0.576; α_P1 = 0.608. At every
+/// other place the beacon angle is ≥ 37° off. At P0 (A = 204, L = 4.92) it is 37° off: f = 1 −
+/// 27/40 = 0.325, and the distance 0.42 m off: f = 1 − 0.12/1.2 = 0.9, so beacon_signature(P0) =
+/// min(min(0.9, 0.325), min(0.8, 0.9)) = 0.325; no corner or walls match at P0, but the
+/// beacon-only rule gives α_P0 = 0.325 · 0.65 = 0.21125 (0.2112 printed: 1 − 27/40 is just below
+/// 0.325 in binary). Everywhere else the angle is ≥ 50° off: α = 0. Exclusions (laser_wall(West)
+/// where there is no West wall) only lower other places. π_P1 = 1 − 0.21125 = h, π_k ≤ 1 − 0.608
+/// for k ≠ P1, so Inc = 0.21125 and N_P1 = 1 − 0.392 = 0.608 ≥ 0.5, 0.608 − 0.211 > 0.1: P1.
+const AT_P1: &str = r#"{"version":1,"t":0.0,"percepts":[{"name":"beacon_angle","value":167.0,"degree":0.9},{"name":"beacon_distance","value":4.5,"degree":0.8},{"name":"sonar_wall","args":["North"],"degree":0.9},{"name":"laser_wall","args":["West"],"degree":0.8}],"truth":{"place":"P1"}}"#;
+
+/// No percepts at all: every α = 0, π = 1 everywhere, N = 0: disoriented, nothing above threshold.
+const EMPTY: &str = r#"{"version":1,"t":0.1,"percepts":[],"truth":{"place":null}}"#;
+
+#[test]
+fn hand_worked_stream_decisions() {
+    let s = temp("hand.jsonl", &format!("{AT_P1}\n\n{EMPTY}\n"));
+    for track in [true, false] {
+        let mut cmd = lplace();
+        cmd.arg("eval").arg(&s).args(["--summary", "none"]);
+        if !track {
+            cmd.arg("--no-track");
+        }
+        let out = cmd.assert().success().get_output().stdout.clone();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        // The first frame starts from total ignorance, so tracking gives the same place and N.
+        // Its Inc differs: the tracker intersects the carried belief (all 1 at the start) with
+        // the *normalised* evidence Π' (height 1), so 1 − max c = 0; frame by frame, Inc is the
+        // evidence's own 0.21125 (see AT_P1).
+        let inc = if track { "0.0000" } else { "0.2112" };
+        assert_eq!(
+            lines[0],
+            format!(
+                r#"{{"line":1,"t":0,"place":"P1","necessity":0.6080,"inconsistency":{inc},"truth":"P1"}}"#
+            )
+        );
+        // The blank line 2 is skipped; line numbers stay those of the file.
+        assert!(lines[1]
+            .starts_with(r#"{"line":3,"t":0.1,"place":null,"reason":"nothing_above_threshold""#));
+        assert_eq!(lines.len(), 2);
+    }
+}
+
+#[test]
+fn summary_json_counts_truth() {
+    let s = temp("sum.jsonl", &format!("{AT_P1}\n{EMPTY}\n"));
+    let out = lplace()
+        .arg("eval")
+        .arg(&s)
+        .args(["--only-summary", "--summary", "json"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert_eq!(v["frames"], 2);
+    assert_eq!(v["decided"], 1);
+    assert_eq!(v["disoriented"]["nothing_above_threshold"], 1);
+    assert_eq!(v["truth"]["at_place"], 1);
+    assert_eq!(v["truth"]["correct"], 1);
+    assert_eq!(v["truth"]["between_places"], 1);
+    assert_eq!(v["truth"]["confusion"][1][1], 1); // P1 decided for P1
+}
+
+#[test]
+fn csv_and_table_formats() {
+    let s = temp("fmt.jsonl", &format!("{AT_P1}\n"));
+    let out = lplace()
+        .arg("eval")
+        .arg(&s)
+        .args(["--format", "csv", "--summary", "none"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let text = String::from_utf8(out).unwrap();
+    // Tracking is on: Inc of the first frame is 0 (see hand_worked_stream_decisions).
+    assert_eq!(
+        text,
+        "line,t,outcome,place,necessity,reason,inconsistency,truth\n1,0,place,P1,0.6080,,0.0000,P1\n"
+    );
+    lplace()
+        .arg("eval")
+        .arg(&s)
+        .args(["--format", "table"])
+        .assert()
+        .success()
+        .stdout(predicates::str::contains("place P1"));
+}
+
+#[test]
+fn exit_0_on_bundled_recording_with_summary() {
+    lplace()
+        .arg("eval")
+        .assert()
+        .code(0)
+        .stdout(predicates::str::contains(r#""line":1,"#))
+        .stderr(predicates::str::contains("frames 2500"))
+        .stderr(predicates::str::contains("confusion"));
+}
+
+#[test]
+fn exit_1_on_unreadable_stream() {
+    lplace()
+        .args(["eval", "/nonexistent/lplace/stream.jsonl"])
+        .assert()
+        .code(1)
+        .stderr(predicates::str::contains("cannot read"));
+}
+
+#[test]
+fn exit_2_on_bad_map_and_bad_args() {
+    let map = temp("bad.map", "place P0 at (0, 0\n");
+    let s = temp("ok.jsonl", &format!("{AT_P1}\n"));
+    lplace()
+        .arg("eval")
+        .arg("--map")
+        .arg(&map)
+        .arg(&s)
+        .assert()
+        .code(2);
+    lplace().args(["eval", "--no-such-flag"]).assert().code(2);
+    let cfg = temp("bad.ron", "(bias: 2.0)");
+    lplace()
+        .arg("eval")
+        .arg(&s)
+        .arg("--tracker")
+        .arg(&cfg)
+        .assert()
+        .code(2)
+        .stderr(predicates::str::contains("bias"));
+}
+
+/// Each bad record is reported as `STREAM:LINE: reason`, counted, skipped; the exit code is 3.
+#[test]
+fn exit_3_and_line_numbers_for_each_bad_input_kind() {
+    let cases: &[(&str, &str, &str)] = &[
+        ("malformed", r#"{"percepts": [ oops"#, "malformed"),
+        (
+            "unknown",
+            r#"{"percepts":[{"name":"radar","degree":0.5}]}"#,
+            "unknown percept `radar`",
+        ),
+        (
+            "nan_degree",
+            r#"{"percepts":[{"name":"sonar_wall","args":["North"],"degree":"NaN"}]}"#,
+            "is NaN",
+        ),
+        (
+            "nan_value",
+            r#"{"percepts":[{"name":"beacon_angle","value":"nan","degree":0.5}]}"#,
+            "value of beacon_angle is NaN",
+        ),
+        (
+            "degree_range",
+            r#"{"percepts":[{"name":"sonar_wall","args":["North"],"degree":1.5}]}"#,
+            "outside [0, 1]",
+        ),
+        (
+            "backwards",
+            r#"{"t":-5.0,"percepts":[]}"#,
+            "time goes backwards",
+        ),
+        ("version", r#"{"version":9,"percepts":[]}"#, "version 9"),
+        (
+            "truth",
+            r#"{"percepts":[],"truth":{"place":"P99"}}"#,
+            "unknown truth place",
+        ),
+    ];
+    for (name, bad, reason) in cases {
+        // Line 2 is the bad one, between two good frames.
+        let s = temp(
+            &format!("{name}.jsonl"),
+            &format!("{AT_P1}\n{bad}\n{EMPTY}\n"),
+        );
+        let path = s.display().to_string();
+        let assert = lplace()
+            .arg("eval")
+            .arg(&s)
+            .args(["--summary", "json"])
+            .assert()
+            .code(3)
+            .stderr(predicates::str::contains(format!("{path}:2: ")))
+            .stderr(predicates::str::contains(*reason));
+        // The good frames are still evaluated.
+        let out = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+        assert_eq!(out.lines().count(), 2, "{name}: {out}");
+    }
+}
+
+#[test]
+fn csv_stream_with_nan_cell() {
+    let s = temp(
+        "nan.csv",
+        "t,deg:sonar_wall(North),deg:beacon_angle,val:beacon_angle\n0,0.9,,\n0.1,0.8,0.7,nan\n",
+    );
+    let path = s.display().to_string();
+    lplace()
+        .arg("eval")
+        .arg(&s)
+        .assert()
+        .code(3)
+        .stderr(predicates::str::contains(format!(
+            "{path}:3: value of beacon_angle is NaN"
+        )));
+}
+
+#[test]
+fn stdin_stream() {
+    lplace()
+        .args(["eval", "-", "--summary", "none"])
+        .write_stdin(format!("{AT_P1}\n"))
+        .assert()
+        .success()
+        .stdout(predicates::str::contains(r#""place":"P1""#));
+}
+
+fn summary(extra: &[&str]) -> serde_json::Value {
+    let out = lplace()
+        .arg("eval")
+        .args(["--only-summary", "--summary", "json"])
+        .args(extra)
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    serde_json::from_slice(&out).unwrap()
+}
+
+/// On the bundled recording, tracking must not raise the wrong-place rate (it lowers it).
+#[test]
+fn tracking_on_vs_off_on_bundled_recording() {
+    let on = summary(&[]);
+    let off = summary(&["--no-track"]);
+    let rate = |v: &serde_json::Value| v["truth"]["wrong_rate"].as_f64().unwrap();
+    assert_eq!(on["tracking"], true);
+    assert_eq!(off["tracking"], false);
+    assert!(
+        rate(&on) <= rate(&off),
+        "on {} off {}",
+        rate(&on),
+        rate(&off)
+    );
+    assert!(rate(&on) < rate(&off));
+    // The recording has two kidnaps and tracking recovers from both.
+    assert_eq!(on["truth"]["kidnaps"], 2);
+    for k in on["truth"]["kidnap_events"].as_array().unwrap() {
+        assert!(k["recovered_after"].as_u64().unwrap() <= 10, "{k}");
+    }
+}
+
+#[test]
+fn plot_writes_svg() {
+    let out = std::env::temp_dir().join(format!("lplace-cli-eval-{}-run.svg", std::process::id()));
+    lplace()
+        .arg("eval")
+        .arg("--plot")
+        .arg(&out)
+        .args(["--only-summary", "--summary", "none"])
+        .assert()
+        .success();
+    let svg = std::fs::read_to_string(&out).unwrap();
+    assert!(svg.starts_with("<svg"));
+    assert!(svg.contains(">P7</text>"));
+    assert!(svg.trim_end().ends_with("</svg>"));
+}
