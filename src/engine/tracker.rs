@@ -319,36 +319,8 @@ impl Tracker {
                 h = h.max(c);
             }
         }
-        let (mut first, mut second, mut best) = (f64::NEG_INFINITY, f64::NEG_INFINITY, usize::MAX);
-        for j in 0..n {
-            let c = self.dist.possibility_raw[j];
-            let p = if h <= 0.0 {
-                1.0
-            } else {
-                match self.cfg.normalisation {
-                    Normalisation::Product => (c / h).min(1.0),
-                    Normalisation::Min => {
-                        if c >= h {
-                            1.0
-                        } else {
-                            c
-                        }
-                    }
-                }
-            };
-            self.dist.possibility[j] = p;
-            if p > first {
-                second = first;
-                first = p;
-                best = j;
-            } else if p > second {
-                second = p;
-            }
-        }
-        for j in 0..n {
-            let other = if j == best { second } else { first };
-            self.dist.necessity[j] = 1.0 - other.max(0.0);
-        }
+        // In the union case `possibility_raw` now holds the union, whose height normalises.
+        self.dist.normalise(self.cfg.normalisation);
 
         // Revise the anchors: keep those the frame agrees with, re-anchor supported places.
         let between = 1.0 - max_support;

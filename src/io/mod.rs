@@ -7,7 +7,9 @@
 pub mod carmen;
 pub mod carmen_stream;
 pub mod csv;
+mod fast_record;
 pub mod mrclam;
+pub mod mrclam_stream;
 pub mod record;
 pub mod stream;
 pub mod tum;

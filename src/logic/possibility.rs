@@ -123,29 +123,35 @@ impl PlaceDistribution {
         }
         self.height = h;
         self.inconsistency = 1.0 - h;
-        for k in 0..n {
-            let p = self.possibility_raw[k];
-            self.possibility[k] = match normalisation {
-                Normalisation::Min => {
-                    if p >= h {
-                        1.0
-                    } else {
-                        p
+        self.normalise(normalisation);
+    }
+
+    /// Computes `Π = π'` and `N` from `possibility_raw` (whatever filled it: [`Self::update`], or a
+    /// tracker that intersected it with a carried belief), normalising by the height of
+    /// `possibility_raw` itself. Leaves `height` and `inconsistency` to the caller.
+    pub fn normalise(&mut self, normalisation: Normalisation) {
+        let h = self.possibility_raw.iter().copied().fold(0.0, f64::max);
+        for (p, &raw) in self.possibility.iter_mut().zip(&self.possibility_raw) {
+            *p = if h <= 0.0 {
+                // Nothing is possible: total ignorance rather than 0/0.
+                1.0
+            } else {
+                match normalisation {
+                    Normalisation::Min => {
+                        if raw >= h {
+                            1.0
+                        } else {
+                            raw
+                        }
                     }
-                }
-                Normalisation::Product => {
-                    if h > 0.0 {
-                        (p / h).min(1.0)
-                    } else {
-                        1.0
-                    }
+                    Normalisation::Product => (raw / h).min(1.0),
                 }
             };
         }
         let pos = Top2::max_of(&self.possibility, |p| p);
-        for k in 0..n {
+        for (k, nk) in self.necessity.iter_mut().enumerate() {
             // An empty max is 0: a lone place is certain.
-            self.necessity[k] = 1.0 - pos.max_except(k).max(0.0);
+            *nk = 1.0 - pos.max_except(k).max(0.0);
         }
     }
 }
