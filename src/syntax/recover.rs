@@ -305,33 +305,6 @@ where
     diags
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn skip_item_stops_after_semicolon_or_closing_brace() {
-        assert_eq!(skip_item("a b; c;", 0), 4);
-        assert_eq!(skip_item("x { a; b; } y", 0), 11);
-        assert_eq!(skip_item("x in {A; B}; y", 0), 12);
-        assert_eq!(skip_item("// ; \n a;", 0), 9);
-        assert_eq!(skip_item("no end", 0), 6);
-    }
-
-    #[test]
-    fn nesting_guard_counts_brackets_bangs_and_arrows() {
-        assert!(nesting_check(&"(".repeat(MAX_NESTING + 1)).is_some());
-        assert!(nesting_check(&"(".repeat(MAX_NESTING)).is_none());
-        assert!(nesting_check(&"!".repeat(MAX_NESTING + 1)).is_some());
-        assert!(nesting_check(&"a -> ".repeat(MAX_NESTING + 1)).is_some());
-        assert!(nesting_check(&"a -> b;\n".repeat(1000)).is_none());
-        assert!(nesting_check(
-            "// ((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((\n"
-        )
-        .is_none());
-    }
-}
-
 /// The span of `p` in the whole file (`base` is where its item starts), without the trailing
 /// whitespace that pest's implicit whitespace handling leaves inside rules ending in a repetition.
 pub(crate) fn pair_span<R: RuleType>(base: usize, p: &Pair<'_, R>) -> Span {
@@ -360,5 +333,32 @@ pub(crate) fn pair_number<R: RuleType>(
             ));
             Spanned::new(0.0, span)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn skip_item_stops_after_semicolon_or_closing_brace() {
+        assert_eq!(skip_item("a b; c;", 0), 4);
+        assert_eq!(skip_item("x { a; b; } y", 0), 11);
+        assert_eq!(skip_item("x in {A; B}; y", 0), 12);
+        assert_eq!(skip_item("// ; \n a;", 0), 9);
+        assert_eq!(skip_item("no end", 0), 6);
+    }
+
+    #[test]
+    fn nesting_guard_counts_brackets_bangs_and_arrows() {
+        assert!(nesting_check(&"(".repeat(MAX_NESTING + 1)).is_some());
+        assert!(nesting_check(&"(".repeat(MAX_NESTING)).is_none());
+        assert!(nesting_check(&"!".repeat(MAX_NESTING + 1)).is_some());
+        assert!(nesting_check(&"a -> ".repeat(MAX_NESTING + 1)).is_some());
+        assert!(nesting_check(&"a -> b;\n".repeat(1000)).is_none());
+        assert!(nesting_check(
+            "// ((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((\n"
+        )
+        .is_none());
     }
 }
