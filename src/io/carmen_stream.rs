@@ -1,7 +1,8 @@
 //! CARMEN log → percept stream: one [`FrameRecord`] per `FLASER` scan, with the raw odometry
 //! increment since the previous scan, the percepts of the scan extractors
 //! ([`crate::percept::ScanExtractor`]: `laser_wall(Front)`, `laser_corner(Front)`,
-//! `sonar_wall(Left|Right)`; [`crate::percept::layout`]: `corridor_width`, `side_openings`) and,
+//! `sonar_wall(Left|Right)`; [`crate::percept::layout`]: `corridor_width`, `side_openings`;
+//! when `compass.enabled`, [`crate::percept::compass`]: `free_range(East|North|West|South)`) and,
 //! when a map is given, the ground truth. Library code behind `lplace extract --from carmen`;
 //! like the readers it does no I/O of its own.
 //!

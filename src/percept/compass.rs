@@ -9,8 +9,12 @@
 //! predicts `θ_k⁻ = θ_{k−1} + Δθ_odometry`, measures the scan's wall orientation `α` (robot
 //! frame, mod 90°) and takes the value `θ ≡ axis − α (mod 90°)` nearest to the prediction.
 //! This stays locked as long as the odometry's heading error *between two scans* is below 45°;
-//! a scan whose candidate is more than `max_correction_deg` from the prediction (clutter, a
-//! diagonal wall) is ignored, so one bad scan cannot flip the heading by a quarter-turn.
+//! a scan whose candidate is farther from the prediction than a gate (clutter, a diagonal
+//! wall) is ignored, so one bad scan cannot flip the heading by a quarter-turn. The gate is
+//! `max_correction_deg`, widened by `gate_growth_deg` for every scan since the last accepted
+//! correction (odometry drifts meanwhile), and never wider than 40°; a weak scan (share of
+//! the vote between `weak_peak_fraction` and `min_peak_fraction`) may only correct by up to
+//! `max_correction_deg`.
 //! The initial quarter-turn is taken from the first frame's odometry heading (in a raw log,
 //! the odometry frame the map is drawn in; see `initial_heading_deg` to state it instead).
 //!
@@ -49,17 +53,24 @@ pub struct CompassConfig {
     /// odometry heading. Only its quarter-turn matters: the first scan refines it. Default
     /// `None`.
     pub initial_heading_deg: Option<f64>,
-    /// Beams between the two ends of a wall segment. Default 3.
+    /// Beams between the two ends of a wall segment. Default 1.
     pub stride: usize,
-    /// Longest wall segment, metres (longer ones jump between surfaces). Default 0.5.
+    /// Longest wall segment, metres (longer ones jump between surfaces). Default 0.2.
     pub max_gap_m: f64,
-    /// Half-width of the histogram smoothing and of the peak window, degrees. Default 4.
+    /// Half-width of the histogram smoothing and of the peak window, degrees. Default 3.
     pub smooth_deg: f64,
-    /// Least share of the vote within the peak window for the scan to count. Default 0.3.
+    /// Least share of the vote within the peak window for the scan to count. Default 0.4.
     pub min_peak_fraction: f64,
+    /// Least share for a *weak* scan, which may correct the heading by at most
+    /// `max_correction_deg` (the growing gate is for scans above `min_peak_fraction`).
+    /// Default 0.15.
+    pub weak_peak_fraction: f64,
     /// Largest heading correction a scan may make, degrees: a scan whose orientation is
     /// farther from the odometry's prediction is taken as cluttered and ignored. Default 15.
     pub max_correction_deg: f64,
+    /// How much the gate widens per scan without a correction, degrees (odometry drift).
+    /// Default 5; the gate never exceeds 40°.
+    pub gate_growth_deg: f64,
     /// Scans whose points make up the local view. Default 8.
     pub history_scans: usize,
     /// Half-width of the band around a compass ray, metres. Default 0.3.
@@ -80,11 +91,13 @@ impl Default for CompassConfig {
             enabled: false,
             axis_deg: 0.0,
             initial_heading_deg: None,
-            stride: 3,
-            max_gap_m: 0.5,
-            smooth_deg: 4.0,
-            min_peak_fraction: 0.3,
+            stride: 1,
+            max_gap_m: 0.2,
+            smooth_deg: 3.0,
+            min_peak_fraction: 0.4,
+            weak_peak_fraction: 0.15,
             max_correction_deg: 15.0,
+            gate_growth_deg: 5.0,
             history_scans: 8,
             band_m: 0.3,
             rank: 3,
@@ -117,7 +130,9 @@ impl CompassConfig {
         positive("compass.max_gap_m", self.max_gap_m)?;
         positive("compass.smooth_deg", self.smooth_deg)?;
         non_negative("compass.min_peak_fraction", self.min_peak_fraction)?;
+        non_negative("compass.weak_peak_fraction", self.weak_peak_fraction)?;
         positive("compass.max_correction_deg", self.max_correction_deg)?;
+        non_negative("compass.gate_growth_deg", self.gate_growth_deg)?;
         positive("compass.band_m", self.band_m)?;
         positive("compass.cap_m", self.cap_m)?;
         non_negative("compass.min_range_m", self.min_range_m)?;
@@ -218,6 +233,8 @@ pub struct CompassTracker {
     /// Points of recent scans in the tracked frame, one vector per scan (ring).
     history: Vec<Vec<(f64, f64)>>,
     next: usize,
+    /// Scans since the last accepted correction.
+    unlocked: u32,
     along: Vec<f64>,
 }
 
@@ -233,6 +250,7 @@ impl CompassTracker {
             pose: None,
             history: Vec::new(),
             next: 0,
+            unlocked: 0,
             along: Vec::new(),
         })
     }
@@ -271,14 +289,27 @@ impl CompassTracker {
                     .map_or(odom_heading, f64::to_radians),
             },
         };
+        let first = self.pose.is_none();
         let mut pose = predicted;
+        let gate = (self.cfg.max_correction_deg
+            + self.cfg.gate_growth_deg * f64::from(self.unlocked))
+        .min(40.0);
+        self.unlocked = self.unlocked.saturating_add(1);
         if let Some((alpha, share)) = orientation(scan, &self.cfg) {
-            if share >= self.cfg.min_peak_fraction {
+            let gate = if share >= self.cfg.min_peak_fraction {
+                Some(gate)
+            } else if share >= self.cfg.weak_peak_fraction {
+                Some(self.cfg.max_correction_deg)
+            } else {
+                None
+            };
+            if let Some(gate) = gate {
                 let target = self.cfg.axis_deg.to_radians() - alpha;
                 let q = std::f64::consts::FRAC_PI_2;
                 let corr = (target - predicted.theta + q / 2.0).rem_euclid(q) - q / 2.0;
-                if corr.abs() <= self.cfg.max_correction_deg.to_radians() {
+                if first || corr.abs() <= gate.to_radians() {
                     pose.theta = predicted.theta + corr;
+                    self.unlocked = 0;
                 }
             }
         }
@@ -385,7 +416,11 @@ mod tests {
             let (a, share) = orientation(&view(&r), &cfg).unwrap();
             let expect = (-yaw_deg).rem_euclid(90.0);
             let err = (a.to_degrees() - expect + 45.0).rem_euclid(90.0) - 45.0;
-            assert!(err.abs() < 1.0, "yaw {yaw_deg}: {} vs {expect}", a.to_degrees());
+            assert!(
+                err.abs() < 1.0,
+                "yaw {yaw_deg}: {} vs {expect}",
+                a.to_degrees()
+            );
             assert!(share > 0.8);
         }
     }
@@ -411,7 +446,8 @@ mod tests {
             let est = t.pose().unwrap().theta.to_degrees();
             let err = (est - truth + 180.0).rem_euclid(360.0) - 180.0;
             assert!(err.abs() < 1.0, "step {k}: {est} vs {truth}");
-            for rec in out {
+            // Once the robot has turned through 180°, the kept scans cover all four sides.
+            for rec in out.iter().filter(|_| k >= 6) {
                 assert!((rec.value.unwrap().exp() - 2.0).abs() < 0.1, "{rec:?}");
             }
             truth = (truth + 30.0).rem_euclid(360.0);
