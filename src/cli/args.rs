@@ -43,6 +43,11 @@ pub enum Command {
     /// One frame per laser scan; with --map, each frame carries its ground-truth place. Exit 0,
     /// or 3 when some log lines were malformed (each reported on stderr with its line number).
     Extract(super::extract::ExtractArgs),
+    /// Run the Fuzzy Position Grid over a landmark percept stream; write the trajectory (TUM)
+    /// and print ATE, time to first fix and kidnap recovery against the stream's truth.
+    ///
+    /// Exit 0, or 3 when some stream lines were malformed (each reported on stderr).
+    Grid(super::grid::GridArgs),
 }
 
 /// The map and rules to load.

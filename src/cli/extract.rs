@@ -18,6 +18,8 @@ use crate::syntax::parse_map;
 pub enum LogFormat {
     /// CARMEN text log (FLASER, ODOM, PARAM), e.g. the Radish "corrected" logs.
     Carmen,
+    /// UTIAS MRCLAM data set directory (LOG is the directory; needs --robot).
+    Mrclam,
 }
 
 /// `lplace extract`.
@@ -26,9 +28,12 @@ pub struct ExtractArgs {
     /// Format of the raw log.
     #[arg(long, value_enum, default_value_t = LogFormat::Carmen)]
     pub from: LogFormat,
-    /// The raw log.
+    /// The raw log (CARMEN), or the data set directory (MRCLAM).
     #[arg(value_name = "LOG")]
     pub log: PathBuf,
+    /// MRCLAM robot number (1–5); required with --from mrclam.
+    #[arg(long, value_name = "N")]
+    pub robot: Option<u32>,
     /// Map (.map) whose place extents give each frame's ground-truth place.
     #[arg(long, value_name = "MAP")]
     pub map: Option<PathBuf>,
@@ -43,6 +48,9 @@ pub struct ExtractArgs {
 /// [`CliError::Read`] when a file cannot be read, [`CliError::Diagnostics`] when the map or the
 /// config has errors (printed first), [`CliError::Write`] when `out` fails.
 pub fn run(args: &ExtractArgs, out: &mut impl Write) -> Result<u8, CliError> {
+    if args.from == LogFormat::Mrclam {
+        return run_mrclam(args, out);
+    }
     let cfg = match &args.config {
         None => ExtractConfig::default(),
         Some(path) => {
@@ -94,4 +102,128 @@ pub fn run(args: &ExtractArgs, out: &mut impl Write) -> Result<u8, CliError> {
     } else {
         EXIT_OK
     })
+}
+
+/// `extract --from mrclam DIR --robot N [--map MAP]`: one robot's files as a percept stream
+/// (`io::mrclam_stream`). Landmark names and truth places come from the map (default: the
+/// bundled `maps/mrclam.map`). Misread barcodes are dropped and counted; malformed lines are
+/// reported as FILE:LINE and skipped (exit 3).
+fn run_mrclam(args: &ExtractArgs, out: &mut impl Write) -> Result<u8, CliError> {
+    let Some(robot) = args.robot else {
+        eprintln!("error: --from mrclam needs --robot N");
+        return Err(CliError::Diagnostics { count: 1 });
+    };
+    let map = super::grid::load_map(args.map.as_deref())?;
+    let (records, malformed) = load_mrclam(&args.log, robot, &map)?;
+    for r in &records {
+        serde_json::to_writer(&mut *out, r).map_err(std::io::Error::from)?;
+        out.write_all(b"\n")?;
+    }
+    Ok(if malformed > 0 {
+        EXIT_REJECTED
+    } else {
+        EXIT_OK
+    })
+}
+
+/// Reads MRCLAM robot `robot` from `dir` into records, reporting malformed lines (FILE:LINE) and
+/// a summary on stderr. Returns the records and the number of malformed lines skipped.
+pub(super) fn load_mrclam(
+    dir: &std::path::Path,
+    robot: u32,
+    map: &Map,
+) -> Result<(Vec<crate::io::record::FrameRecord>, usize), CliError> {
+    use crate::io::mrclam::{self, MergeOptions, MrclamError};
+    use crate::io::mrclam_stream::{read_lenient, to_record};
+    if !(1..=5).contains(&robot) {
+        eprintln!("error: --robot {robot}: MRCLAM has robots 1 to 5");
+        return Err(CliError::Diagnostics { count: 1 });
+    }
+    let mut malformed = 0usize;
+    // Reads one file leniently; every skipped line is reported with the file's path.
+    let mut load = |name: String, read: &mut dyn FnMut(&[u8]) -> Result<(), MrclamError>| {
+        let path = dir.join(&name);
+        let text = std::fs::read_to_string(&path).map_err(|source| CliError::Read {
+            path: path.display().to_string(),
+            source,
+        })?;
+        let shown = path.display().to_string();
+        match read_lenient(&text, |b| read(b)) {
+            Ok(((), skipped)) => {
+                for e in &skipped {
+                    report(&shown, e);
+                }
+                malformed += skipped.len();
+                Ok(())
+            }
+            Err(e) => {
+                report(&shown, &e);
+                Err(CliError::Diagnostics { count: 1 })
+            }
+        }
+    };
+    let mut codes = mrclam::Barcodes::default();
+    load("Barcodes.dat".into(), &mut |b| {
+        codes = mrclam::read_barcodes(b)?;
+        Ok(())
+    })?;
+    let mut odo = Vec::new();
+    load(format!("Robot{robot}_Odometry.dat"), &mut |b| {
+        odo = mrclam::read_odometry(b)?;
+        Ok(())
+    })?;
+    let mut meas = mrclam::Measurements::default();
+    load(format!("Robot{robot}_Measurement.dat"), &mut |b| {
+        meas = mrclam::read_measurements(b, &codes)?;
+        Ok(())
+    })?;
+    let mut truth = Vec::new();
+    load(format!("Robot{robot}_Groundtruth.dat"), &mut |b| {
+        truth = mrclam::read_groundtruth(b)?;
+        Ok(())
+    })?;
+    let frames = mrclam::merge(&odo, &meas.rows, &truth, &MergeOptions::default());
+    let names: std::collections::BTreeMap<u32, String> = map
+        .landmarks()
+        .iter()
+        .filter_map(|l| Some((u32::try_from(l.id?).ok()?, l.name.clone())))
+        .collect();
+    // Subjects 1–5 are the robots (data set README); anything else not in the map keeps its id.
+    let name_of = |id: u32| match names.get(&id) {
+        Some(n) => n.clone(),
+        None if (1..=5).contains(&id) => format!("Robot{id}"),
+        None => format!("S{id}"),
+    };
+    let place_at = |x: f64, y: f64| {
+        map.places()
+            .iter()
+            .find(|p| p.contains(x, y))
+            .map(|p| p.name.clone())
+    };
+    let records: Vec<_> = frames
+        .iter()
+        .map(|f| to_record(f, &name_of, place_at))
+        .collect();
+    let listed: Vec<String> = meas
+        .misread_barcodes
+        .iter()
+        .map(|(b, n)| format!("{b}×{n}"))
+        .collect();
+    eprintln!(
+        "extract: robot {robot}: {} frame(s), {} reading(s); {} misread barcode(s) dropped [{}]; {} malformed line(s) skipped",
+        records.len(),
+        meas.rows.len(),
+        meas.misread,
+        listed.join(", "),
+        malformed
+    );
+    Ok((records, malformed))
+}
+
+fn report(path: &str, e: &crate::io::mrclam::MrclamError) {
+    use crate::io::mrclam::MrclamError;
+    match e {
+        MrclamError::Malformed { line, problem, .. } => eprintln!("{path}:{line}: {problem}"),
+        MrclamError::Read { line, source, .. } => eprintln!("{path}:{line}: read error: {source}"),
+    }
 }

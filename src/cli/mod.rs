@@ -1,4 +1,4 @@
-//! The command line: `lplace check | explain | eval | simulate | extract`.
+//! The command line: `lplace check | explain | eval | simulate | extract | grid`.
 //!
 //! Flags are handled in two stages, as in ripgrep: [`args`] parses the command line with clap
 //! into plain data, then each command module turns that into a ready-to-run command (files read,
@@ -19,6 +19,7 @@ mod check;
 mod eval;
 mod explain;
 mod extract;
+mod grid;
 mod render;
 mod simulate;
 
@@ -91,6 +92,7 @@ pub fn main() -> ExitCode {
         args::Command::Eval(a) => eval::run(&a, &mut out),
         args::Command::Simulate(a) => simulate::run(&a, &mut out),
         args::Command::Extract(a) => extract::run(&a, &mut out),
+        args::Command::Grid(a) => grid::run(&a, &mut out),
     };
     let result = result.and_then(|code| out.flush().map(|_| code).map_err(CliError::Write));
     match result {

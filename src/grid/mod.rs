@@ -17,6 +17,7 @@ pub mod config;
 pub mod dilate;
 pub mod estimate;
 pub mod observe;
+pub mod place;
 pub mod predict;
 pub mod run;
 pub mod trapezoid;

@@ -1,0 +1,462 @@
+//! `lplace grid [--map MAP] STREAM --tum OUT`: runs the Fuzzy Position Grid (`grid::run`) over a
+//! percept stream of landmark range/bearing frames (what `lplace extract --from mrclam` writes),
+//! writes the estimated trajectory in TUM format, and prints the scores against the stream's
+//! truth poses: ATE without alignment, time to first fix and, with `--kidnap-at`, the recovery
+//! time after an injected kidnap. `--svg DIR` draws a few grid frames (paper 000 figs. 3/5).
+//!
+//! Landmark positions come from the map's `landmark … id N` lines, so the stream's
+//! `landmark_range(NAME)` percepts are resolved by name. With no `--map`, the bundled
+//! `maps/mrclam.map` is used. Malformed stream lines are reported on stderr as STREAM:LINE and
+//! skipped (exit 3 at the end).
+
+use std::io::{BufRead, BufReader, Write};
+use std::path::{Path, PathBuf};
+
+use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
+use crate::grid::place::map_landmarks;
+use crate::grid::run::{run as run_grid, Kidnap, Recovery, RunOptions, RunReport};
+use crate::grid::{FuzzyGrid, GridConfig, LandmarkTable, Motion, Observation};
+use crate::io::mrclam::MetricFrame;
+use crate::io::mrclam_stream::RecordReader;
+use crate::io::record::FrameRecord;
+use crate::io::tum::{write_tum, TumPose};
+use crate::map::Map;
+use crate::syntax::diagnostic::SourceFile;
+use crate::syntax::parse_map;
+
+/// The MRCLAM map, bundled: the default of `grid` and `extract --from mrclam`.
+pub const MRCLAM_MAP: &str = include_str!("../../maps/mrclam.map");
+
+/// `lplace grid`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct GridArgs {
+    /// Map (.map) whose landmarks (with ids) the stream's readings name. Default: the bundled
+    /// maps/mrclam.map.
+    #[arg(long, value_name = "MAP")]
+    pub map: Option<PathBuf>,
+    /// Percept stream (JSON lines) with landmark_range/landmark_bearing percepts; `-` reads
+    /// stdin. Not needed with --from-dir.
+    #[arg(value_name = "STREAM", required_unless_present = "from_dir")]
+    pub stream: Option<PathBuf>,
+    /// Read MRCLAM robot files from this directory instead of a stream (needs --robot).
+    #[arg(
+        long,
+        value_name = "DIR",
+        requires = "robot",
+        conflicts_with = "stream"
+    )]
+    pub from_dir: Option<PathBuf>,
+    /// MRCLAM robot number (1–5), with --from-dir.
+    #[arg(long, value_name = "N")]
+    pub robot: Option<u32>,
+    /// Grid parameters (RON, see `grid::GridConfig`), e.g. config/grid-mrclam.ron. Default:
+    /// the built-in defaults.
+    #[arg(long, value_name = "CONFIG")]
+    pub config: Option<PathBuf>,
+    /// Cell size in metres (overrides the configuration's).
+    #[arg(long, value_name = "METRES")]
+    pub cell: Option<f32>,
+    /// Write the estimated trajectory here (TUM: `t x y z qx qy qz qw`).
+    #[arg(long, value_name = "FILE")]
+    pub tum: Option<PathBuf>,
+    /// Write a few grid frames as SVG into this directory (created if needed).
+    #[arg(long, value_name = "DIR")]
+    pub svg: Option<PathBuf>,
+    /// Also run with a kidnap injected this many seconds after the first frame (or `mid`: at
+    /// the middle frame) and report the recovery time.
+    #[arg(long, value_name = "SECONDS|mid")]
+    pub kidnap_at: Option<String>,
+    /// The kidnap: forward and left metres and degrees turned, added to one odometry increment.
+    #[arg(long, value_name = "DX,DY,DTHETA", value_delimiter = ',', num_args = 3,
+          default_values_t = [0.0, 2.0, 1.5f64.to_degrees()])]
+    pub kidnap_by: Vec<f64>,
+    /// Ignore readings whose degree (reliability) is below this.
+    #[arg(long, value_name = "DEGREE", default_value_t = 0.0)]
+    pub min_degree: f64,
+    /// Print the scores as one JSON object instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Loads a map file, or the bundled MRCLAM map, printing its diagnostics on failure.
+pub(super) fn load_map(path: Option<&Path>) -> Result<Map, CliError> {
+    let src = match path {
+        Some(p) => read_source(p)?,
+        None => SourceFile::new("maps/mrclam.map (bundled)", MRCLAM_MAP),
+    };
+    let fail = |d: Vec<crate::syntax::diagnostic::Diagnostic>| {
+        render::eprint(&src, &d);
+        CliError::Diagnostics { count: d.len() }
+    };
+    let ast = parse_map(&src.text).map_err(fail)?;
+    Map::from_ast(&ast).map_err(fail)
+}
+
+/// One problem reported on stderr, mapped to exit 2.
+fn bad(msg: impl std::fmt::Display) -> CliError {
+    eprintln!("error: {msg}");
+    CliError::Diagnostics { count: 1 }
+}
+
+/// Reads the stream's records; malformed lines are reported and counted.
+fn read_stream(path: &Path) -> Result<(Vec<FrameRecord>, usize), CliError> {
+    let name = path.display().to_string();
+    let reader: Box<dyn BufRead> = if name == "-" {
+        Box::new(BufReader::new(std::io::stdin()))
+    } else {
+        let f = std::fs::File::open(path).map_err(|source| CliError::Read {
+            path: name.clone(),
+            source,
+        })?;
+        Box::new(BufReader::new(f))
+    };
+    let (mut out, mut rejected) = (Vec::new(), 0);
+    for (k, line) in reader.lines().enumerate() {
+        let line = line.map_err(|source| CliError::Read {
+            path: name.clone(),
+            source,
+        })?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        match FrameRecord::parse(&line) {
+            Ok(r) => out.push(r),
+            Err(e) => {
+                eprintln!("{name}:{}: {e}", k + 1);
+                rejected += 1;
+            }
+        }
+    }
+    Ok((out, rejected))
+}
+
+/// Runs `grid`: scores to `out`, problems to stderr.
+///
+/// # Errors
+/// [`CliError::Read`] when a file cannot be read, [`CliError::Diagnostics`] for a bad map,
+/// configuration or flag (printed first), [`CliError::Write`] when an output fails.
+pub fn run(args: &GridArgs, out: &mut impl Write) -> Result<u8, CliError> {
+    let map = load_map(args.map.as_deref())?;
+    let (table, names) = map_landmarks(&map).map_err(bad)?;
+    if table.landmarks().is_empty() {
+        return Err(bad("the map has no landmark with an id"));
+    }
+    let mut cfg = match &args.config {
+        None => GridConfig::default(),
+        Some(p) => {
+            let src = read_source(p)?;
+            GridConfig::from_ron(&src.text).map_err(|e| bad(format!("{}: {e}", p.display())))?
+        }
+    };
+    if let Some(c) = args.cell {
+        cfg.cell_size = c;
+    }
+    cfg.validate().map_err(bad)?;
+    let (records, rejected) = match (&args.from_dir, &args.stream) {
+        (Some(dir), _) => {
+            let robot = args.robot.ok_or_else(|| bad("--from-dir needs --robot"))?;
+            let (recs, malformed) = super::extract::load_mrclam(dir, robot, &map)?;
+            (recs, malformed)
+        }
+        (None, Some(path)) => read_stream(path)?,
+        (None, None) => return Err(bad("no STREAM given")),
+    };
+    let mut reader = RecordReader::new(names);
+    reader.min_degree = args.min_degree;
+    let frames: Vec<MetricFrame> = records.iter().map(|r| reader.convert(r)).collect();
+    let report =
+        run_grid(&table, &cfg, frames.iter().cloned(), &RunOptions::default()).map_err(bad)?;
+    if let Some(path) = &args.tum {
+        let poses: Vec<TumPose> = report
+            .frames
+            .iter()
+            .map(|f| TumPose {
+                t: f.t,
+                x: f.pose.x,
+                y: f.pose.y,
+                yaw: f.pose.theta,
+            })
+            .collect();
+        let file = std::fs::File::create(path)?;
+        let mut w = std::io::BufWriter::new(file);
+        write_tum(&mut w, &poses)?;
+        w.flush()?;
+    }
+    let kidnapped = match &args.kidnap_at {
+        None => None,
+        Some(spec) => {
+            let Some(first) = frames.first() else {
+                return Err(bad("--kidnap-at: the stream has no frames"));
+            };
+            let time = if spec == "mid" {
+                frames[frames.len() / 2].t
+            } else {
+                match spec.parse::<f64>() {
+                    Ok(s) if s.is_finite() && s >= 0.0 => first.t + s,
+                    _ => {
+                        return Err(bad(format!(
+                            "--kidnap-at: `{spec}` is not seconds or `mid`"
+                        )))
+                    }
+                }
+            };
+            let by = |k: usize| args.kidnap_by.get(k).copied().unwrap_or(0.0);
+            let opts = RunOptions {
+                kidnap: Some(Kidnap {
+                    time,
+                    forward: by(0),
+                    lateral: by(1),
+                    turn: by(2).to_radians(),
+                }),
+                ..RunOptions::default()
+            };
+            Some((
+                time - first.t,
+                run_grid(&table, &cfg, frames.iter().cloned(), &opts).map_err(bad)?,
+            ))
+        }
+    };
+    if let Some(dir) = &args.svg {
+        write_frames(dir, &table, &cfg, &frames)?;
+    }
+    print_scores(
+        out,
+        args.json,
+        &report,
+        kidnapped.as_ref(),
+        &reader,
+        rejected,
+    )?;
+    Ok(if rejected > 0 { EXIT_REJECTED } else { EXIT_OK })
+}
+
+fn print_scores(
+    out: &mut impl Write,
+    json: bool,
+    r: &RunReport,
+    kidnapped: Option<&(f64, RunReport)>,
+    reader: &RecordReader,
+    rejected: usize,
+) -> Result<(), CliError> {
+    let recovery = kidnapped.map(|(at, k)| match k.recovery {
+        Some(Recovery::Recovered { after }) => (*at, Some(after)),
+        _ => (*at, None),
+    });
+    if json {
+        let v = serde_json::json!({
+            "frames": r.frames.len(),
+            "ate": r.ate,
+            "ate_all": r.ate_all,
+            "heading_rmse": r.heading_rmse,
+            "first_fix": r.first_fix.map(|f| f.after),
+            "kidnap_at": recovery.map(|x| x.0),
+            "recovery": recovery.and_then(|x| x.1),
+            "used": r.used,
+            "unknown": r.unknown + reader.stats.unknown,
+            "unpaired": reader.stats.unpaired,
+            "dropped": reader.stats.dropped,
+            "rejected_lines": rejected,
+        });
+        writeln!(out, "{v}")?;
+        return Ok(());
+    }
+    let f = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{v:.3}"));
+    writeln!(out, "frames: {}", r.frames.len())?;
+    match r.ate {
+        Some(a) => writeln!(
+            out,
+            "ATE (from first fix, no alignment): RMSE {:.3} m, median {:.3} m, max {:.3} m over {} frames",
+            a.rmse, a.median, a.max, a.count
+        )?,
+        None => writeln!(out, "ATE: – (no fix, or no truth in the stream)")?,
+    }
+    writeln!(
+        out,
+        "ATE over all frames: RMSE {} m",
+        f(r.ate_all.map(|a| a.rmse))
+    )?;
+    writeln!(out, "heading RMSE: {} rad", f(r.heading_rmse))?;
+    writeln!(out, "first fix: {} s", f(r.first_fix.map(|x| x.after)))?;
+    if let Some((at, rec)) = recovery {
+        match rec {
+            Some(s) => writeln!(out, "kidnap at {at:.1} s: recovered after {s:.1} s")?,
+            None => writeln!(out, "kidnap at {at:.1} s: not recovered")?,
+        }
+    }
+    writeln!(
+        out,
+        "readings: {} used, {} thinned, {} of unknown subjects, {} unpaired, {} below --min-degree",
+        r.used,
+        r.thinned,
+        r.unknown + reader.stats.unknown,
+        reader.stats.unpaired,
+        reader.stats.dropped
+    )?;
+    Ok(())
+}
+
+/// Times after the first frame (s) at which `--svg` draws the grid: doubling, so that the
+/// pictures show the belief shrinking from total ignorance.
+const SVG_TIMES: [f64; 6] = [0.5, 1.0, 2.0, 4.0, 8.0, 16.0];
+
+/// Replays the grid cycle of `grid::run` and draws the plane at [`SVG_TIMES`].
+fn write_frames(
+    dir: &Path,
+    table: &LandmarkTable,
+    cfg: &GridConfig,
+    frames: &[MetricFrame],
+) -> Result<(), CliError> {
+    std::fs::create_dir_all(dir)?;
+    let bounds = match cfg.bounds {
+        Some(b) => b,
+        None => table
+            .bounds(cfg.margin)
+            .ok_or_else(|| bad("no grid bounds"))?,
+    };
+    let mut grid = FuzzyGrid::new(cfg.clone(), bounds).map_err(bad)?;
+    let Some(t0) = frames.first().map(|f| f.t) else {
+        return Ok(());
+    };
+    let mut last_fed = vec![f64::NEG_INFINITY; table.landmarks().len()];
+    let mut next = 0;
+    for f in frames {
+        if next >= SVG_TIMES.len() {
+            break;
+        }
+        let o = f.odometry;
+        // Rejected motion or readings are counted by `grid::run`; the picture just skips them.
+        let _ = grid.predict(&Motion {
+            forward: o.forward as f32,
+            lateral: o.lateral as f32,
+            turn: o.turn as f32,
+            dt: o.dt as f32,
+        });
+        for r in &f.observations {
+            let Ok(slot) = table.landmarks().binary_search_by_key(&r.subject, |m| m.id) else {
+                continue;
+            };
+            if cfg.reobserve_interval > 0.0 && f.t - last_fed[slot] < cfg.reobserve_interval as f64
+            {
+                continue;
+            }
+            last_fed[slot] = f.t;
+            let _ = grid.observe(
+                table,
+                &Observation {
+                    landmark: r.subject,
+                    range: Some(r.range as f32),
+                    bearing: Some(r.bearing as f32),
+                },
+            );
+        }
+        grid.apply_pending();
+        if f.t - t0 >= SVG_TIMES[next] {
+            let path = dir.join(format!("grid-{:03}.svg", next));
+            let truth = f.truth.map(|p| (p.x as f32, p.y as f32, p.theta as f32));
+            std::fs::write(&path, svg(&grid, table, truth, f.t - t0))?;
+            next += 1;
+        }
+    }
+    Ok(())
+}
+
+/// One grid frame as SVG: grey shade = possibility (black = 1), a short arrow per shown cell
+/// along the centre of its heading set (drawn where the set is narrower than a half turn),
+/// landmarks in red, the truth in blue and the estimate in green.
+fn svg(g: &FuzzyGrid, table: &LandmarkTable, truth: Option<(f32, f32, f32)>, t: f64) -> String {
+    use std::fmt::Write as _;
+    let (nx, ny) = (g.nx(), g.ny());
+    // At most ~120 blocks across, so files stay small; a block shows its brightest cell.
+    let b = (nx.max(ny) / 120).max(1);
+    let px = 4.0f32; // pixels per block
+    let (w, h) = ((nx / b + 1) as f32 * px, (ny / b + 1) as f32 * px);
+    let s = g.cell_size();
+    let (x0, y0) = g.origin();
+    let to_px = |x: f32, y: f32| {
+        (
+            (x - x0) / (s * b as f32) * px,
+            h - (y - y0) / (s * b as f32) * px,
+        )
+    };
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{}" viewBox="0 0 {w} {}">"#,
+        h + 16.0,
+        h + 16.0
+    );
+    let _ = writeln!(o, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
+    for bj in 0..ny.div_ceil(b) {
+        for bc in 0..nx.div_ceil(b) {
+            let (mut best, mut at) = (0.0f32, (bc * b, bj * b));
+            for j in bj * b..((bj + 1) * b).min(ny) {
+                for c in bc * b..((bc + 1) * b).min(nx) {
+                    let v = g.possibility(c, j);
+                    if v > best {
+                        best = v;
+                        at = (c, j);
+                    }
+                }
+            }
+            if best < 0.02 {
+                continue;
+            }
+            let shade = (255.0 * (1.0 - best)).round() as u8;
+            let (cx, cy) = g.cell_center(at.0, at.1);
+            let (sx, sy) = to_px(cx, cy);
+            let _ = writeln!(
+                o,
+                r#"<rect x="{:.1}" y="{:.1}" width="{px}" height="{px}" fill="rgb({shade},{shade},{shade})"/>"#,
+                sx - 0.5 * px,
+                sy - 0.5 * px
+            );
+            if best >= 0.5 && bc % 3 == 0 && bj % 3 == 0 {
+                if let Some(hs) = g.heading_set(at.0, at.1) {
+                    if hs.core + 2.0 * hs.slope < std::f32::consts::PI {
+                        let l = 2.5 * px;
+                        let (dx, dy) = (l * hs.center.cos(), -l * hs.center.sin());
+                        let _ = writeln!(
+                            o,
+                            r#"<line x1="{sx:.1}" y1="{sy:.1}" x2="{:.1}" y2="{:.1}" stroke="orange" stroke-width="1"/>"#,
+                            sx + dx,
+                            sy + dy
+                        );
+                    }
+                }
+            }
+        }
+    }
+    for m in table.landmarks() {
+        let (sx, sy) = to_px(m.x, m.y);
+        let _ = writeln!(
+            o,
+            r#"<circle cx="{sx:.1}" cy="{sy:.1}" r="3" fill="red"><title>{}</title></circle>"#,
+            m.id
+        );
+    }
+    if let Some((x, y, th)) = truth {
+        let (sx, sy) = to_px(x, y);
+        let _ = writeln!(
+            o,
+            r#"<circle cx="{sx:.1}" cy="{sy:.1}" r="4" fill="none" stroke="blue" stroke-width="1.5"/><line x1="{sx:.1}" y1="{sy:.1}" x2="{:.1}" y2="{:.1}" stroke="blue" stroke-width="1.5"/>"#,
+            sx + 10.0 * th.cos(),
+            sy - 10.0 * th.sin()
+        );
+    }
+    let e = g.estimate();
+    let (sx, sy) = to_px(e.x, e.y);
+    let _ = writeln!(
+        o,
+        r#"<path d="M{:.1},{sy:.1}h8M{sx:.1},{:.1}v8" stroke="green" stroke-width="2"/>"#,
+        sx - 4.0,
+        sy - 4.0
+    );
+    let _ = writeln!(
+        o,
+        r#"<text x="2" y="{:.1}" font-size="11" font-family="sans-serif">t = {t:.1} s, reliability {:.2}</text>"#,
+        h + 12.0,
+        e.reliability
+    );
+    o.push_str("</svg>\n");
+    o
+}
