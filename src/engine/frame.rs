@@ -46,9 +46,32 @@ impl std::fmt::Display for PerceptInstance {
 
 /// Every percept instance of a rule set, with its slot.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(from = "TableWire")]
 pub struct PerceptTable {
     instances: Vec<PerceptInstance>,
     index: BTreeMap<PerceptInstance, PerceptSlot>,
+    /// Borrowed-key look-up for [`PerceptTable::slot`]; derived from `instances`, so it is not
+    /// serialized but rebuilt when a table is deserialized.
+    #[serde(skip)]
+    lookup: InstanceIndex,
+}
+
+/// The serialized fields of a [`PerceptTable`].
+#[derive(Deserialize)]
+struct TableWire {
+    instances: Vec<PerceptInstance>,
+    index: BTreeMap<PerceptInstance, PerceptSlot>,
+}
+
+impl From<TableWire> for PerceptTable {
+    fn from(w: TableWire) -> Self {
+        let lookup = InstanceIndex::new(&w.instances);
+        PerceptTable {
+            instances: w.instances,
+            index: w.index,
+            lookup,
+        }
+    }
 }
 
 impl PerceptTable {
@@ -76,7 +99,12 @@ impl PerceptTable {
             .enumerate()
             .map(|(i, p)| (p.clone(), PerceptSlot(i as u32)))
             .collect();
-        PerceptTable { instances, index }
+        let lookup = InstanceIndex::new(&instances);
+        PerceptTable {
+            instances,
+            index,
+            lookup,
+        }
     }
 
     /// Number of slots.
@@ -91,16 +119,14 @@ impl PerceptTable {
 
     /// The slot of `name(args…)`, if the rule set declares that instance.
     pub fn slot(&self, name: &str, args: &[&str]) -> Option<PerceptSlot> {
-        // The map is keyed by owned instances; a linear scan over the (small) table avoids
-        // allocating a key on a path that user code may call per frame.
-        self.instances
-            .iter()
-            .position(|p| {
-                p.name == name
-                    && p.args.len() == args.len()
-                    && p.args.iter().zip(args).all(|(a, b)| a == b)
-            })
-            .map(|i| PerceptSlot(i as u32))
+        // The BTreeMap is keyed by owned instances, which would need an allocated key; the hash
+        // index takes borrowed strings, since user code may call this per percept per frame.
+        self.lookup.get(&self.instances, name.as_bytes(), args)
+    }
+
+    /// The borrowed-key index over [`PerceptTable::instances`].
+    pub(crate) fn lookup(&self) -> &InstanceIndex {
+        &self.lookup
     }
 
     /// The slot of an instance given as an owned key.
@@ -117,6 +143,96 @@ impl PerceptTable {
     pub fn instances(&self) -> &[PerceptInstance] {
         &self.instances
     }
+}
+
+/// A hash index from `name(args…)` to slot that is queried with borrowed strings, so that the
+/// per-percept look-up of a stream reader neither allocates nor scans the table.
+///
+/// Open addressing with linear probing over a power-of-two table kept at most half full; each
+/// bucket holds the upper half of the key's hash (to skip most string compares) and the slot + 1
+/// (0 = empty). When the same instance occurs twice, the first slot wins, as a scan would find it.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct InstanceIndex {
+    buckets: Vec<(u32, u32)>,
+}
+
+impl InstanceIndex {
+    /// Indexes `instances` by position.
+    pub(crate) fn new(instances: &[PerceptInstance]) -> Self {
+        let size = (instances.len() * 2).next_power_of_two().max(8);
+        let mut ix = InstanceIndex {
+            buckets: vec![(0, 0); size],
+        };
+        for (i, p) in instances.iter().enumerate() {
+            if ix.get(instances, p.name.as_bytes(), &p.args).is_some() {
+                continue;
+            }
+            let h = key_hash(p.name.as_bytes(), &p.args);
+            let mask = ix.buckets.len() - 1;
+            let mut b = h as usize & mask;
+            while ix.buckets[b].1 != 0 {
+                b = (b + 1) & mask;
+            }
+            ix.buckets[b] = ((h >> 32) as u32, i as u32 + 1);
+        }
+        ix
+    }
+
+    /// The slot of `name(args…)` among `instances` (the list this index was built from). Keys
+    /// are compared as bytes, so a caller holding raw bytes need not validate them as UTF-8
+    /// first: bytes equal to a declared (valid) name are valid themselves.
+    pub(crate) fn get<S: AsRef<[u8]>>(
+        &self,
+        instances: &[PerceptInstance],
+        name: &[u8],
+        args: &[S],
+    ) -> Option<PerceptSlot> {
+        if self.buckets.is_empty() {
+            return None;
+        }
+        let h = key_hash(name, args);
+        let tag = (h >> 32) as u32;
+        let mask = self.buckets.len() - 1;
+        let mut b = h as usize & mask;
+        loop {
+            let (t, s) = *self.buckets.get(b)?;
+            if s == 0 {
+                return None;
+            }
+            if t == tag {
+                let p = instances.get(s as usize - 1)?;
+                if p.name.as_bytes() == name
+                    && p.args.len() == args.len()
+                    && p.args
+                        .iter()
+                        .zip(args)
+                        .all(|(x, y)| x.as_bytes() == y.as_ref())
+                {
+                    return Some(PerceptSlot(s - 1));
+                }
+            }
+            b = (b + 1) & mask;
+        }
+    }
+}
+
+/// FNV-1a over the name and each argument, each argument preceded by the byte 0xFF, which
+/// cannot occur in UTF-8, so that `("ab", [])` and `("a", ["b"])` hash apart.
+fn key_hash<S: AsRef<[u8]>>(name: &[u8], args: &[S]) -> u64 {
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |bytes: &[u8]| {
+        for &b in bytes {
+            h = (h ^ u64::from(b)).wrapping_mul(PRIME);
+        }
+    };
+    eat(name);
+    for a in args {
+        eat(&[0xff]);
+        eat(a.as_ref());
+    }
+    // Fold the high bits into the low ones used for the bucket.
+    h ^ (h >> 29)
 }
 
 /// Calls `f` with every tuple of the cartesian product of `domains` (once, with `[]`, for none).

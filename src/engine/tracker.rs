@@ -289,7 +289,11 @@ impl Tracker {
         for j in 0..n {
             let mut p = 0.0f64;
             for i in 0..n {
-                p = p.max(self.anchor[i].min(self.reach(i, j)));
+                // min(anchor, reach) cannot exceed the anchor, so an anchor at or below `p`
+                // cannot raise it: skipping its (costly) reach is exact, and most anchors are low.
+                if self.anchor[i] > p || self.anchor[i].is_nan() {
+                    p = p.max(self.anchor[i].min(self.reach(i, j)));
+                }
             }
             self.pred[j] = p;
         }
@@ -327,11 +331,11 @@ impl Tracker {
         for i in 0..n {
             let mut compat = between;
             for j in 0..n {
-                compat = compat.max(self.reach(i, j).min(self.dist.possibility[j].min(ev(
-                    &evidence.possibility,
-                    j,
-                    1.0,
-                ))));
+                let agree = self.dist.possibility[j].min(ev(&evidence.possibility, j, 1.0));
+                // As in the blur: a term bounded by `agree <= compat` cannot raise `compat`.
+                if agree > compat || agree.is_nan() {
+                    compat = compat.max(self.reach(i, j).min(agree));
+                }
             }
             self.anchor[i] = t.apply(self.anchor[i], compat.max(b));
         }

@@ -7,9 +7,13 @@
 //!
 //! The reader ([`StreamReader`]) pulls lines from a caller-supplied [`BufRead`]: it never holds
 //! more than one line, reuses its line buffer, name buffers and the caller's frame, and looks
-//! percept names up in a [`Schema`] built once. JSON is deserialized with a hand-written serde
-//! seed that writes each percept into its slot as it is parsed, so the steady state allocates
-//! nothing per frame (only a rejected record allocates, to describe itself).
+//! percept names up in a [`Schema`] built once. A JSON line is first tried by a hand-written
+//! scanner for exactly the documented record shape (`io::fast_record`), which borrows its strings
+//! from the line and writes straight into the frame; whatever it does not vouch for (escapes,
+//! unknown keys, unusual numbers, anything to reject) is read again by a hand-written serde seed
+//! that writes each percept into its slot as it is parsed and words every rejection. Either way
+//! the steady state allocates nothing per frame (only a rejected record allocates, to describe
+//! itself), and both paths give the same frame or the same rejection.
 //!
 //! # What is rejected (each reported, counted; the whole record is skipped)
 //! A line that is not a record of the right shape, a format version other than
@@ -23,8 +27,10 @@
 //! Depends on `engine::frame` (the target), `io::record` (the wire types), `map` (truth place
 //! names) and serde/serde_json; nothing here does I/O beyond reading the given `BufRead`.
 
-use crate::engine::{Frame, PerceptSlot, PerceptTable};
+use crate::engine::frame::InstanceIndex;
+use crate::engine::{Frame, PerceptInstance, PerceptSlot, PerceptTable};
 use crate::io::csv::CsvLayout;
+use crate::io::fast_record;
 use crate::io::record::{Odometry, FORMAT_VERSION};
 use crate::map::Map;
 use serde::de::{self, DeserializeSeed, IgnoredAny, MapAccess, SeqAccess, Visitor};
@@ -56,18 +62,14 @@ impl StreamFormat {
     }
 }
 
-/// Names a stream may use, resolved once: percept instances to slots, truth places to indices.
+/// Names a stream may use, resolved once: percept instances to slots (through a hash index that
+/// takes borrowed strings), truth places to indices.
 #[derive(Debug, Clone)]
 pub struct Schema {
-    groups: Vec<NameGroup>,
+    instances: Vec<PerceptInstance>,
+    index: InstanceIndex,
     places: Vec<String>,
     slots: usize,
-}
-
-#[derive(Debug, Clone)]
-struct NameGroup {
-    name: String,
-    instances: Vec<(Vec<String>, PerceptSlot)>,
 }
 
 impl Schema {
@@ -79,19 +81,9 @@ impl Schema {
 
     /// The schema of a percept table and a list of place names.
     pub fn from_parts(table: &PerceptTable, places: Vec<String>) -> Schema {
-        let mut groups: Vec<NameGroup> = Vec::new();
-        for (i, inst) in table.instances().iter().enumerate() {
-            let slot = PerceptSlot(i as u32);
-            match groups.iter_mut().find(|g| g.name == inst.name) {
-                Some(g) => g.instances.push((inst.args.clone(), slot)),
-                None => groups.push(NameGroup {
-                    name: inst.name.clone(),
-                    instances: vec![(inst.args.clone(), slot)],
-                }),
-            }
-        }
         Schema {
-            groups,
+            instances: table.instances().to_vec(),
+            index: table.lookup().clone(),
             places,
             slots: table.len(),
         }
@@ -99,13 +91,31 @@ impl Schema {
 
     /// The slot of `name(args…)`; `None` when not declared.
     pub fn lookup<S: AsRef<str>>(&self, name: &str, args: &[S]) -> Option<PerceptSlot> {
-        let g = self.groups.iter().find(|g| g.name == name)?;
-        g.instances
-            .iter()
-            .find(|(a, _)| {
-                a.len() == args.len() && a.iter().zip(args).all(|(x, y)| x == y.as_ref())
-            })
-            .map(|(_, s)| *s)
+        // The index compares bytes; up to eight arguments are viewed as such on the stack, more
+        // (no rule file has them) take an allocation rather than a limit.
+        let mut bytes: [&[u8]; 8] = [&[]; 8];
+        match bytes.get_mut(..args.len()) {
+            Some(b) => {
+                for (b, a) in b.iter_mut().zip(args) {
+                    *b = a.as_ref().as_bytes();
+                }
+                self.index.get(&self.instances, name.as_bytes(), b)
+            }
+            None => {
+                let owned: Vec<&[u8]> = args.iter().map(|a| a.as_ref().as_bytes()).collect();
+                self.index.get(&self.instances, name.as_bytes(), &owned)
+            }
+        }
+    }
+
+    /// [`Schema::lookup`] on raw bytes (not yet validated as UTF-8), for the fast JSON path.
+    pub(crate) fn lookup_bytes(&self, name: &[u8], args: &[&[u8]]) -> Option<PerceptSlot> {
+        self.index.get(&self.instances, name, args)
+    }
+
+    /// [`Schema::place`] on raw bytes, for the fast JSON path.
+    pub(crate) fn place_bytes(&self, name: &[u8]) -> Option<usize> {
+        self.places.iter().position(|p| p.as_bytes() == name)
     }
 
     /// Index of the place called `name`.
@@ -413,9 +423,18 @@ pub(crate) fn check_meta(meta: &FrameMeta, last_t: Option<f64>) -> Option<Reject
 #[derive(Debug)]
 pub struct StreamReader<R> {
     input: R,
+    /// Holds a line only when it is not whole in the input's own buffer (see `next_frame`).
     buf: Vec<u8>,
     line: u64,
     bytes: u64,
+    parser: LineParser,
+}
+
+/// Everything but the I/O: turns one line into a frame, a rejection, or nothing (blank lines,
+/// the CSV header). Kept apart from the input so that a line can be borrowed from the input's
+/// buffer while it is parsed.
+#[derive(Debug)]
+struct LineParser {
     schema: Schema,
     format: StreamFormat,
     csv: Option<CsvLayout>,
@@ -423,6 +442,33 @@ pub struct StreamReader<R> {
     pending: Vec<LineError>,
     last_t: Option<f64>,
     scratch: Scratch,
+    fast: bool,
+}
+
+/// Position of the first `\n` in `b`, eight bytes at a time (lines are a few hundred bytes, so
+/// this is a measurable part of reading a record).
+fn find_newline(b: &[u8]) -> Option<usize> {
+    const LO: u64 = 0x0101_0101_0101_0101;
+    const HI: u64 = 0x8080_8080_8080_8080;
+    const NL: u64 = LO * b'\n' as u64;
+    let mut chunks = b.chunks_exact(8);
+    let mut off = 0;
+    for c in &mut chunks {
+        let mut w = [0u8; 8];
+        w.copy_from_slice(c);
+        let x = u64::from_le_bytes(w) ^ NL;
+        // The lowest set bit marks the first zero byte of `x` exactly (borrows only run upwards).
+        let z = x.wrapping_sub(LO) & !x & HI;
+        if z != 0 {
+            return Some(off + (z.trailing_zeros() / 8) as usize);
+        }
+        off += 8;
+    }
+    chunks
+        .remainder()
+        .iter()
+        .position(|&c| c == b'\n')
+        .map(|p| off + p)
 }
 
 impl<R: BufRead> StreamReader<R> {
@@ -433,18 +479,28 @@ impl<R: BufRead> StreamReader<R> {
             buf: Vec::with_capacity(1024),
             line: 0,
             bytes: 0,
-            schema,
-            format,
-            csv: None,
-            pending: Vec::new(),
-            last_t: None,
-            scratch: Scratch::default(),
+            parser: LineParser {
+                schema,
+                format,
+                csv: None,
+                pending: Vec::new(),
+                last_t: None,
+                scratch: Scratch::default(),
+                fast: true,
+            },
         }
+    }
+
+    /// Turns the JSON fast path on (the default) or off. Off, every JSON line goes through the
+    /// serde path; results are the same either way, so this exists for comparisons (tests,
+    /// benchmarks), not for users.
+    pub fn set_fast_path(&mut self, on: bool) {
+        self.parser.fast = on;
     }
 
     /// The schema names are resolved with.
     pub fn schema(&self) -> &Schema {
-        &self.schema
+        &self.parser.schema
     }
 
     /// Bytes consumed so far (for progress bars).
@@ -498,88 +554,133 @@ impl<R: BufRead> StreamReader<R> {
         meta: &mut FrameMeta,
     ) -> std::io::Result<ReadOutcome> {
         loop {
-            if let Some(e) = self.pending.pop() {
+            if let Some(e) = self.parser.pending.pop() {
                 return Ok(ReadOutcome::Rejected(e));
+            }
+            // Zero-copy: a line that lies whole in the input's buffer is parsed where it lies.
+            // Anything else (a line across a buffer boundary, the last line without a newline,
+            // an overlong line) is copied by `read_line`, which also enforces MAX_LINE.
+            let avail = self.input.fill_buf()?;
+            let window = &avail[..avail.len().min(MAX_LINE + 1)];
+            if let Some(pos) = find_newline(window) {
+                let mut text = &window[..pos];
+                while let [rest @ .., b'\r'] = text {
+                    text = rest;
+                }
+                self.line += 1;
+                self.bytes += pos as u64 + 1;
+                let got = self.parser.parse(text, self.line, frame, meta);
+                self.input.consume(pos + 1);
+                match got {
+                    Some(outcome) => return Ok(outcome),
+                    None => continue,
+                }
             }
             let Some(ok) = self.read_line()? else {
                 return Ok(ReadOutcome::End);
             };
-            let line = self.line;
             if !ok {
                 return Ok(ReadOutcome::Rejected(LineError {
-                    line,
+                    line: self.line,
                     reason: Rejection::TooLong,
                 }));
             }
-            if self.buf.iter().all(u8::is_ascii_whitespace) {
-                continue;
+            if let Some(outcome) = self.parser.parse(&self.buf, self.line, frame, meta) {
+                return Ok(outcome);
             }
-            if self.format == StreamFormat::Csv && self.csv.is_none() {
-                let (layout, problems) = CsvLayout::from_header(&self.buf, &self.schema);
-                self.csv = Some(layout);
-                self.pending = problems
-                    .into_iter()
-                    .rev()
-                    .map(|reason| LineError { line, reason })
-                    .collect();
-                continue;
+        }
+    }
+}
+
+impl LineParser {
+    /// Parses line number `line` (without its line ending). `None` when the line is not a
+    /// record (blank, or the CSV header, whose problems are queued in `pending`).
+    fn parse(
+        &mut self,
+        text: &[u8],
+        line: u64,
+        frame: &mut Frame,
+        meta: &mut FrameMeta,
+    ) -> Option<ReadOutcome> {
+        if text.iter().all(u8::is_ascii_whitespace) {
+            return None;
+        }
+        if self.format == StreamFormat::Csv && self.csv.is_none() {
+            let (layout, problems) = CsvLayout::from_header(text, &self.schema);
+            self.csv = Some(layout);
+            self.pending = problems
+                .into_iter()
+                .rev()
+                .map(|reason| LineError { line, reason })
+                .collect();
+            return None;
+        }
+        *meta = FrameMeta {
+            line,
+            ..FrameMeta::default()
+        };
+        frame.clear();
+        self.scratch.begin(self.schema.slots);
+        let mut problem = None;
+        match &self.csv {
+            Some(layout) => layout.parse_row(
+                text,
+                &self.schema,
+                &mut self.scratch,
+                frame,
+                meta,
+                &mut problem,
+            ),
+            None if self.fast
+                && fast_record::scan_record(text, &self.schema, &mut self.scratch, frame, meta) => {
             }
-            *meta = FrameMeta {
-                line,
-                ..FrameMeta::default()
-            };
-            frame.clear();
-            self.scratch.begin(self.schema.slots);
-            let mut problem = None;
-            match &self.csv {
-                Some(layout) => layout.parse_row(
-                    &self.buf,
-                    &self.schema,
-                    &mut self.scratch,
+            None => {
+                // Not a record the fast scanner vouches for: start over with serde, which
+                // words every rejection.
+                *meta = FrameMeta {
+                    line,
+                    ..FrameMeta::default()
+                };
+                frame.clear();
+                self.scratch.begin(self.schema.slots);
+                let mut ctx = Ctx {
+                    schema: &self.schema,
                     frame,
                     meta,
-                    &mut problem,
-                ),
-                None => {
-                    let mut ctx = Ctx {
-                        schema: &self.schema,
-                        frame,
-                        meta,
-                        scratch: &mut self.scratch,
-                        problem: &mut problem,
-                        version: None,
-                        has_percepts: false,
-                    };
-                    let mut de = serde_json::Deserializer::from_slice(&self.buf);
-                    let parsed = RecordSeed(&mut ctx)
-                        .deserialize(&mut de)
-                        .and_then(|()| de.end());
-                    match parsed {
-                        Err(e) => {
-                            problem = Some(Rejection::Malformed {
-                                column: e.column(),
-                                message: e.to_string(),
-                            })
-                        }
-                        Ok(()) => {
-                            if let Some(v) = ctx.version.filter(|&v| v != FORMAT_VERSION as u64) {
-                                problem = Some(Rejection::Version { found: v });
-                            }
+                    scratch: &mut self.scratch,
+                    problem: &mut problem,
+                    version: None,
+                    has_percepts: false,
+                };
+                let mut de = serde_json::Deserializer::from_slice(text);
+                let parsed = RecordSeed(&mut ctx)
+                    .deserialize(&mut de)
+                    .and_then(|()| de.end());
+                match parsed {
+                    Err(e) => {
+                        problem = Some(Rejection::Malformed {
+                            column: e.column(),
+                            message: e.to_string(),
+                        })
+                    }
+                    Ok(()) => {
+                        if let Some(v) = ctx.version.filter(|&v| v != FORMAT_VERSION as u64) {
+                            problem = Some(Rejection::Version { found: v });
                         }
                     }
                 }
             }
-            let problem = problem.or_else(|| check_meta(meta, self.last_t));
-            return Ok(match problem {
-                Some(reason) => ReadOutcome::Rejected(LineError { line, reason }),
-                None => {
-                    if meta.t.is_some() {
-                        self.last_t = meta.t;
-                    }
-                    ReadOutcome::Frame
-                }
-            });
         }
+        let problem = problem.or_else(|| check_meta(meta, self.last_t));
+        Some(match problem {
+            Some(reason) => ReadOutcome::Rejected(LineError { line, reason }),
+            None => {
+                if meta.t.is_some() {
+                    self.last_t = meta.t;
+                }
+                ReadOutcome::Frame
+            }
+        })
     }
 }
 
