@@ -17,7 +17,9 @@
 //!
 //! # Complexity
 //!
-//! O(cells): one pass for the maximum, one for the sums.
+//! O(cells): one pass for the maximum, one for the sums (four-lane, adds
+//! only, so it vectorises), plus a heading pass over the rows that hold top
+//! cells.
 //!
 //! # Example
 //!
@@ -91,33 +93,7 @@ impl FuzzyGrid {
         for j in 0..self.ny {
             let base = j * self.nx;
             let row = &self.h[base..base + self.nx];
-            // Branch-free sums in 8 lanes so that the loop vectorises (a
-            // single f32 accumulator forces sequential adds).
-            let (mut lw, mut lx, mut lt) = ([0.0f32; 8], [0.0f32; 8], [0.0f32; 8]);
-            let chunks = row.chunks_exact(8);
-            let rest = chunks.remainder();
-            const LANE: [f32; 8] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0];
-            let mut c0 = 0.0f32; // one integer→float conversion per row, not per cell
-            for ch in chunks {
-                for l in 0..8 {
-                    let v = ch[l];
-                    let w = if v >= cut { v } else { 0.0 };
-                    lw[l] += w;
-                    lx[l] += w * (c0 + LANE[l]);
-                    lt[l] += if v >= top { 1.0 } else { 0.0 };
-                }
-                c0 += 8.0;
-            }
-            let off = row.len() - rest.len();
-            for (l, &v) in rest.iter().enumerate() {
-                let w = if v >= cut { v } else { 0.0 };
-                lw[0] += w;
-                lx[0] += w * (off + l) as f32;
-                lt[0] += if v >= top { 1.0 } else { 0.0 };
-            }
-            let rw: f32 = lw.iter().sum();
-            let rx: f32 = lx.iter().sum();
-            let rt = lt.iter().sum::<f32>() as u32;
+            let (rw, rx, rt) = row_sums(row, cut, top);
             if rt > 0 {
                 for (c, &v) in row.iter().enumerate() {
                     if v >= top {
@@ -158,4 +134,44 @@ impl FuzzyGrid {
             height: max,
         }
     }
+}
+
+/// Sums of one row: cut weight `Σ w`, first moment `Σ w·c` and the number of
+/// top cells, in four independent lanes so that the loop vectorises (a
+/// single f32 accumulator forces sequential adds). The moment needs no
+/// per-lane column index: `run` accumulates each lane's running weight once
+/// per chunk, so it counts every weight once for each chunk from its own to
+/// the last, and `Σ w·chunk = chunks · Σ w − run`; only adds remain in the
+/// loop, which keeps it in registers.
+#[inline]
+fn row_sums(row: &[f32], cut: f32, top: f32) -> (f32, f32, u32) {
+    const L: usize = 4;
+    let (mut lw, mut run, mut lt) = ([0.0f32; L], [0.0f32; L], [0.0f32; L]);
+    let chunks = row.chunks_exact(L);
+    let rest = chunks.remainder();
+    let n = chunks.len() as f32;
+    for ch in chunks {
+        for l in 0..L {
+            let v = ch[l];
+            lw[l] += if v >= cut { v } else { 0.0 };
+            run[l] += lw[l];
+            lt[l] += if v >= top { 1.0 } else { 0.0 };
+        }
+    }
+    let (mut rw, mut rx, mut rt) = (0.0f32, 0.0f32, 0.0f32);
+    for l in 0..L {
+        // Σ w·c over the lane, with c = L·chunk + l and Σ w·chunk = n·Σ w − run.
+        let chunk_moment = n * lw[l] - run[l];
+        rx += L as f32 * chunk_moment + l as f32 * lw[l];
+        rw += lw[l];
+        rt += lt[l];
+    }
+    let off = row.len() - rest.len();
+    for (l, &v) in rest.iter().enumerate() {
+        let w = if v >= cut { v } else { 0.0 };
+        rw += w;
+        rx += w * (off + l) as f32;
+        rt += if v >= top { 1.0 } else { 0.0 };
+    }
+    (rw, rx, rt as u32)
 }
