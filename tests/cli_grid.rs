@@ -259,7 +259,7 @@ fn mrclam_robot1_extract_then_grid() {
         .stdout
         .clone();
     let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
-    // Measured 0.280 m, first fix 3.45 s, recovery 6.4 s (notes/grid.md).
+    // Measured 0.280 m, first fix 3.45 s, recovery 6.4 s (docs/grid.md).
     assert!(v["ate"]["rmse"].as_f64().unwrap() < 0.32, "{v}");
     assert!(v["first_fix"].as_f64().unwrap() < 5.0, "{v}");
     assert!(v["recovery"].as_f64().unwrap() < 15.0, "{v}");

@@ -208,6 +208,6 @@ fn office_simulator_refined_pose_lies_in_the_truth_place() {
     assert!(frac >= LOCK_SIMULATOR, "{frac} < {LOCK_SIMULATOR}");
 }
 
-/// Measured fractions, locked in slightly below (see notes/grid.md).
+/// Measured fractions, locked in slightly below (see docs/grid.md).
 const LOCK_RECORDING: f64 = 0.90; // measured 0.930 (grid alone 0.262)
 const LOCK_SIMULATOR: f64 = 0.95; // measured 0.984 (grid alone 0.238)

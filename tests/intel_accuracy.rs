@@ -196,7 +196,7 @@ fn intel_lab_accuracy_is_locked_in() {
     // Locked in (measured: 830/910 frames inside a place; with the compass free ranges, per
     // frame 34.5 % decided, 54.8 % of them right, 0 % confidently wrong; tracked 27.4 %
     // decided, 57.8 % right, 0.55 % confidently wrong). Below the goal: see
-    // notes/intel.md.
+    // docs/intel.md.
     assert!(at_a_place >= 820, "truth coverage {at_a_place}");
     assert!(single.decided() >= 0.32, "{single:?}");
     assert!(single.precision() >= 0.52, "{single:?}");

@@ -17,7 +17,7 @@ use crate::report::summary::reason_name;
 use crate::report::{RunPlot, Tally};
 use std::io::{BufRead, BufReader, IsTerminal, Write};
 
-/// The bundled office recording (made by `lplace simulate`, see notes/streams.md).
+/// The bundled office recording (made by `lplace simulate`, see docs/streams.md).
 pub const OFFICE_RECORDING: &str = include_str!("../../recordings/office.jsonl");
 
 /// Runs `eval`.

@@ -1,7 +1,7 @@
 //! Percept streams: a log of frames read one line at a time, straight into the engine's dense
 //! [`Frame`], with every bad record turned into a typed [`Rejection`] carrying its line number.
 //!
-//! Two wire forms carry the same content (see `notes/streams.md` for the schema):
+//! Two wire forms carry the same content (see `docs/streams.md` for the schema):
 //! - **JSON Lines** — one [`crate::io::record::FrameRecord`] object per line;
 //! - **CSV** — a header naming the columns, then one frame per row (see [`crate::io::csv`]).
 //!
