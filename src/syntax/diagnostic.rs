@@ -409,7 +409,7 @@ impl DiagnosticKind {
     pub fn help(&self) -> &'static str {
         use DiagnosticKind as K;
         match self {
-            K::Syntax { .. } => "check the punctuation here against the examples in the language guide",
+            K::Syntax { .. } => "check the punctuation here against the language examples in the README",
             K::TooDeeplyNested { .. } => "split the formula into derived predicates",
             K::NumberOutOfRange { .. } => "write a finite number",
             K::DuplicateWeight => "write the weight once: `(body -> head, w)`",
