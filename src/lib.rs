@@ -37,6 +37,7 @@
 pub mod engine;
 pub mod grid;
 pub mod io;
+pub mod localize;
 pub mod logic;
 pub mod map;
 pub mod percept;

@@ -14,12 +14,13 @@ use std::path::{Path, PathBuf};
 
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::grid::place::map_landmarks;
-use crate::grid::run::{run as run_grid, Kidnap, Recovery, RunOptions, RunReport};
-use crate::grid::{FuzzyGrid, GridConfig, LandmarkTable, Motion, Observation};
+use crate::grid::run::{run as run_grid, GridLocalizer, Kidnap, Recovery, RunOptions, RunReport};
+use crate::grid::{FuzzyGrid, GridConfig, LandmarkTable};
 use crate::io::mrclam::MetricFrame;
 use crate::io::mrclam_stream::RecordReader;
 use crate::io::record::FrameRecord;
 use crate::io::tum::{write_tum, TumPose};
+use crate::localize::Drive;
 use crate::map::Map;
 use crate::syntax::diagnostic::SourceFile;
 use crate::syntax::parse_map;
@@ -299,7 +300,8 @@ fn print_scores(
 /// pictures show the belief shrinking from total ignorance.
 const SVG_TIMES: [f64; 6] = [0.5, 1.0, 2.0, 4.0, 8.0, 16.0];
 
-/// Replays the grid cycle of `grid::run` and draws the plane at [`SVG_TIMES`].
+/// Replays the grid's run (the same [`Drive`] as `grid::run`) and draws the plane at
+/// [`SVG_TIMES`].
 fn write_frames(
     dir: &Path,
     table: &LandmarkTable,
@@ -307,53 +309,21 @@ fn write_frames(
     frames: &[MetricFrame],
 ) -> Result<(), CliError> {
     std::fs::create_dir_all(dir)?;
-    let bounds = match cfg.bounds {
-        Some(b) => b,
-        None => table
-            .bounds(cfg.margin)
-            .ok_or_else(|| bad("no grid bounds"))?,
-    };
-    let mut grid = FuzzyGrid::new(cfg.clone(), bounds).map_err(bad)?;
+    let mut loc = GridLocalizer::new(table, cfg).map_err(bad)?;
+    let mut drive = Drive::new(table, RunOptions::default());
     let Some(t0) = frames.first().map(|f| f.t) else {
         return Ok(());
     };
-    let mut last_fed = vec![f64::NEG_INFINITY; table.landmarks().len()];
     let mut next = 0;
     for f in frames {
         if next >= SVG_TIMES.len() {
             break;
         }
-        let o = f.odometry;
-        // Rejected motion or readings are counted by `grid::run`; the picture just skips them.
-        let _ = grid.predict(&Motion {
-            forward: o.forward as f32,
-            lateral: o.lateral as f32,
-            turn: o.turn as f32,
-            dt: o.dt as f32,
-        });
-        for r in &f.observations {
-            let Ok(slot) = table.landmarks().binary_search_by_key(&r.subject, |m| m.id) else {
-                continue;
-            };
-            if cfg.reobserve_interval > 0.0 && f.t - last_fed[slot] < cfg.reobserve_interval as f64
-            {
-                continue;
-            }
-            last_fed[slot] = f.t;
-            let _ = grid.observe(
-                table,
-                &Observation {
-                    landmark: r.subject,
-                    range: Some(r.range as f32),
-                    bearing: Some(r.bearing as f32),
-                },
-            );
-        }
-        grid.apply_pending();
+        drive.step(&mut loc, f);
         if f.t - t0 >= SVG_TIMES[next] {
             let path = dir.join(format!("grid-{:03}.svg", next));
             let truth = f.truth.map(|p| (p.x as f32, p.y as f32, p.theta as f32));
-            std::fs::write(&path, svg(&grid, table, truth, f.t - t0))?;
+            std::fs::write(&path, svg(loc.grid(), table, truth, f.t - t0))?;
             next += 1;
         }
     }
