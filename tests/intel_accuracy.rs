@@ -193,15 +193,15 @@ fn intel_lab_accuracy_is_locked_in() {
         eprintln!("trajectory picture: {}", out.display());
     }
 
-    // Locked in (measured: 830/910 frames inside a place; with the compass free ranges, per
-    // frame 34.5 % decided, 54.8 % of them right, 0 % confidently wrong; tracked 27.4 %
-    // decided, 57.8 % right, 0.55 % confidently wrong). Below the goal: see
-    // docs/intel.md.
+    // Locked in (measured: 830/910 frames inside a place; with the drift-corrected compass
+    // and its free ranges, per frame 37.8 % decided, 51.7 % of them right, 0 % confidently
+    // wrong; tracked 28.5 % decided, 54.1 % right, 0.99 % confidently wrong). Below the
+    // issue's goal: see docs/intel.md.
     assert!(at_a_place >= 820, "truth coverage {at_a_place}");
-    assert!(single.decided() >= 0.32, "{single:?}");
-    assert!(single.precision() >= 0.52, "{single:?}");
+    assert!(single.decided() >= 0.36, "{single:?}");
+    assert!(single.precision() >= 0.50, "{single:?}");
     assert!(single.confidently_wrong_rate() <= 0.01, "{single:?}");
-    assert!(tracked.decided() >= 0.25, "{tracked:?}");
-    assert!(tracked.precision() >= 0.55, "{tracked:?}");
+    assert!(tracked.decided() >= 0.27, "{tracked:?}");
+    assert!(tracked.precision() >= 0.52, "{tracked:?}");
     assert!(tracked.confidently_wrong_rate() <= 0.01, "{tracked:?}");
 }
