@@ -48,6 +48,14 @@ pub enum Command {
     ///
     /// Exit 0, or 3 when some stream lines were malformed (each reported on stderr).
     Grid(super::grid::GridArgs),
+    /// Cooperative object localization (paper 002) on MRCLAM: one robot is the object the others
+    /// see; fuse their object grids and compare with each robot's own estimate and with averages.
+    ///
+    /// Prints, per object robot and overall, mean / median errors (m) of the observers' self
+    /// localization, their own object estimates, the best of them, the plain and
+    /// reliability-weighted averages and the fused estimate. Exit 0, 2 for bad flags or files,
+    /// 3 when data lines were malformed (each reported on stderr as FILE:LINE) or readings rejected.
+    Fuse(super::fuse::FuseArgs),
 }
 
 /// The map and rules to load.

@@ -19,6 +19,7 @@ mod check;
 mod eval;
 mod explain;
 mod extract;
+mod fuse;
 mod grid;
 mod render;
 mod simulate;
@@ -93,6 +94,7 @@ pub fn main() -> ExitCode {
         args::Command::Simulate(a) => simulate::run(&a, &mut out),
         args::Command::Extract(a) => extract::run(&a, &mut out),
         args::Command::Grid(a) => grid::run(&a, &mut out),
+        args::Command::Fuse(a) => fuse::run(&a, &mut out),
     };
     let result = result.and_then(|code| out.flush().map(|_| code).map_err(CliError::Write));
     match result {

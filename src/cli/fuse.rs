@@ -1,0 +1,272 @@
+//! `lplace fuse --from-dir DIR [--object N]… [--config GRID.ron] [--coop-config COOP.ron]`: paper
+//! 002's cooperative object localization replayed on MRCLAM ([`crate::coop::experiment`]): each
+//! chosen robot in turn is the object the others see; the table gives, per object robot and
+//! overall, the observers' self-localization error, their own object errors, the best of them,
+//! the plain and reliability-weighted averages and the fused estimate (mean / median, metres).
+//!
+//! Malformed data lines are reported on stderr as FILE:LINE and skipped; readings of an object
+//! that give no object grid are counted. Either makes the exit code 3.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use super::args::Format;
+use super::{read_source, CliError, EXIT_OK, EXIT_REJECTED};
+use crate::coop::experiment::{self, Options, Report, RobotLog, Stat, Summary};
+use crate::coop::CoopConfig;
+use crate::grid::{GridConfig, Landmark, LandmarkTable};
+use crate::io::mrclam::{self, MergeOptions, MrclamError};
+use crate::io::mrclam_stream::read_lenient;
+
+/// `lplace fuse`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct FuseArgs {
+    /// MRCLAM dataset directory (Barcodes.dat, Landmark_Groundtruth.dat, RobotN_*.dat).
+    #[arg(long, value_name = "DIR")]
+    pub from_dir: PathBuf,
+    /// Robot (1–5) taken as the object the others see; repeat for several. Default: every
+    /// robot in turn (same as --all).
+    #[arg(long, value_name = "N", conflicts_with = "all")]
+    pub object: Vec<u32>,
+    /// Every robot in turn as the object (the default).
+    #[arg(long)]
+    pub all: bool,
+    /// Self-localization grid parameters (RON, see `grid::GridConfig`), e.g.
+    /// config/grid-mrclam.ron. Default: the built-in defaults.
+    #[arg(long, value_name = "GRID.ron")]
+    pub config: Option<PathBuf>,
+    /// Object-grid, fusion and event parameters (RON, see `coop::CoopConfig`), e.g.
+    /// config/coop-mrclam.ron. Default: the built-in defaults.
+    #[arg(long, value_name = "COOP.ron")]
+    pub coop_config: Option<PathBuf>,
+    /// Only the first SECONDS of the recording.
+    #[arg(long, value_name = "SECONDS")]
+    pub until: Option<f64>,
+    /// Output: a markdown table, one JSON object (with --events: every event too), or CSV.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+    /// With --format json: include every scored event.
+    #[arg(long)]
+    pub events: bool,
+}
+
+/// One problem reported on stderr, mapped to exit 2.
+fn bad(msg: impl std::fmt::Display) -> CliError {
+    eprintln!("error: {msg}");
+    CliError::Diagnostics { count: 1 }
+}
+
+/// Reads one MRCLAM file leniently: malformed lines are reported as PATH:LINE and counted.
+fn load<T>(
+    dir: &Path,
+    name: &str,
+    skipped: &mut usize,
+    read: impl FnMut(&[u8]) -> Result<T, MrclamError>,
+) -> Result<T, CliError> {
+    let path = dir.join(name);
+    let shown = path.display().to_string();
+    let text = std::fs::read_to_string(&path).map_err(|source| CliError::Read {
+        path: shown.clone(),
+        source,
+    })?;
+    let say = |e: &MrclamError| match e {
+        MrclamError::Malformed { line, problem, .. } => eprintln!("{shown}:{line}: {problem}"),
+        MrclamError::Read { line, source, .. } => eprintln!("{shown}:{line}: read error: {source}"),
+    };
+    match read_lenient(&text, read) {
+        Ok((v, errs)) => {
+            errs.iter().for_each(say);
+            *skipped += errs.len();
+            Ok(v)
+        }
+        Err(e) => {
+            say(&e);
+            Err(CliError::Diagnostics { count: 1 })
+        }
+    }
+}
+
+/// The landmark table and the five robots' logs of an MRCLAM directory.
+fn load_dataset(
+    dir: &Path,
+    skipped: &mut usize,
+) -> Result<(LandmarkTable, Vec<RobotLog>), CliError> {
+    let codes = load(dir, "Barcodes.dat", skipped, |b| mrclam::read_barcodes(b))?;
+    let marks = load(dir, "Landmark_Groundtruth.dat", skipped, |b| {
+        mrclam::read_landmarks(b)
+    })?;
+    let table = LandmarkTable::new(
+        marks
+            .iter()
+            .map(|m| Landmark {
+                id: m.subject,
+                x: m.x as f32,
+                y: m.y as f32,
+            })
+            .collect(),
+    )
+    .map_err(bad)?;
+    let mut logs = Vec::new();
+    for robot in 1..=5u32 {
+        let odo = load(dir, &format!("Robot{robot}_Odometry.dat"), skipped, |b| {
+            mrclam::read_odometry(b)
+        })?;
+        let meas = load(
+            dir,
+            &format!("Robot{robot}_Measurement.dat"),
+            skipped,
+            |b| mrclam::read_measurements(b, &codes),
+        )?;
+        let truth = load(
+            dir,
+            &format!("Robot{robot}_Groundtruth.dat"),
+            skipped,
+            |b| mrclam::read_groundtruth(b),
+        )?;
+        let frames = mrclam::merge(&odo, &meas.rows, &truth, &MergeOptions::default());
+        logs.push(RobotLog {
+            robot,
+            frames,
+            truth,
+        });
+    }
+    Ok((table, logs))
+}
+
+/// Runs `fuse`: the table to `out`, problems to stderr.
+///
+/// # Errors
+/// [`CliError::Read`] when a file cannot be read, [`CliError::Diagnostics`] for a bad flag,
+/// configuration or data file (printed first), [`CliError::Write`] when the output fails.
+pub fn run(args: &FuseArgs, out: &mut impl Write) -> Result<u8, CliError> {
+    if let Some(bad_n) = args.object.iter().find(|n| !(1..=5).contains(*n)) {
+        return Err(bad(format!("--object {bad_n}: MRCLAM has robots 1 to 5")));
+    }
+    if let Some(u) = args.until {
+        if !(u.is_finite() && u > 0.0) {
+            return Err(bad(format!(
+                "--until {u}: must be a positive number of seconds"
+            )));
+        }
+    }
+    let grid_cfg = match &args.config {
+        None => GridConfig::default(),
+        Some(p) => GridConfig::from_ron(&read_source(p)?.text)
+            .map_err(|e| bad(format!("{}: {e}", p.display())))?,
+    };
+    let cfg = match &args.coop_config {
+        None => CoopConfig::default(),
+        Some(p) => CoopConfig::from_ron(&read_source(p)?.text)
+            .map_err(|e| bad(format!("{}: {e}", p.display())))?,
+    };
+    let mut skipped = 0;
+    let (table, logs) = load_dataset(&args.from_dir, &mut skipped)?;
+    let opts = Options {
+        objects: if args.all {
+            Vec::new()
+        } else {
+            args.object.clone()
+        },
+        until: args.until,
+    };
+    let report = experiment::run(&table, &grid_cfg, &cfg, &logs, &opts).map_err(bad)?;
+    match args.format {
+        Format::Json => {
+            let mut v = serde_json::to_value(&report).map_err(std::io::Error::from)?;
+            if !args.events {
+                if let Some(o) = v.as_object_mut() {
+                    o.remove("events");
+                }
+            }
+            writeln!(out, "{v}")?;
+        }
+        Format::Table => print_table(out, &report)?,
+        Format::Csv => print_csv(out, &report)?,
+    }
+    if report.rejected_sightings > 0 {
+        eprintln!(
+            "fuse: {} reading(s) of an object rejected (non-finite)",
+            report.rejected_sightings
+        );
+    }
+    Ok(if skipped > 0 || report.rejected_sightings > 0 {
+        EXIT_REJECTED
+    } else {
+        EXIT_OK
+    })
+}
+
+fn rows(r: &Report) -> impl Iterator<Item = &Summary> {
+    r.per_object.iter().chain(std::iter::once(&r.overall))
+}
+
+fn name(s: &Summary) -> String {
+    s.object.map_or("all".to_string(), |o| format!("robot {o}"))
+}
+
+fn print_table(out: &mut impl Write, r: &Report) -> Result<(), CliError> {
+    let st = |s: Option<Stat>| {
+        s.map_or("–".to_string(), |s| {
+            format!("{:.3} / {:.3}", s.mean, s.median)
+        })
+    };
+    writeln!(
+        out,
+        "| object | sightings | events | Δ_self | Δ_object | Δ_best | Δ_avg | Δ_wavg | Δ_fuzzy | fuzzy < avg | fuzzy < wavg | bytes sent |"
+    )?;
+    writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+    for s in rows(r) {
+        writeln!(
+            out,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            name(s),
+            s.sightings,
+            s.events,
+            st(s.self_error),
+            st(s.object_error),
+            st(s.best),
+            st(s.avg),
+            st(s.wavg),
+            st(s.fuzzy),
+            s.fuzzy_beats_avg,
+            s.fuzzy_beats_wavg,
+            s.mean_code_bytes
+                .map_or("–".to_string(), |b| format!("{b:.0} of {}", r.cells)),
+        )?;
+    }
+    writeln!(out)?;
+    writeln!(out, "errors in metres, mean / median over events; Δ_self, Δ_object over every observer of every event; bytes: mean run-length code of one object grid, of the uncompressed one byte per cell")?;
+    writeln!(out)?;
+    writeln!(out, "| observer | Δ_self | Δ_object |")?;
+    writeln!(out, "|---|---|---|")?;
+    for (o, (a, b)) in &r.overall.per_observer {
+        writeln!(out, "| robot {o} | {} | {} |", st(*a), st(*b))?;
+    }
+    Ok(())
+}
+
+fn print_csv(out: &mut impl Write, r: &Report) -> Result<(), CliError> {
+    let st = |s: Option<Stat>| {
+        s.map_or(",".to_string(), |s| {
+            format!("{:.4},{:.4}", s.mean, s.median)
+        })
+    };
+    writeln!(out, "object,sightings,events,unscored,self_mean,self_median,object_mean,object_median,best_mean,best_median,avg_mean,avg_median,wavg_mean,wavg_median,fuzzy_mean,fuzzy_median")?;
+    for s in rows(r) {
+        writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{},{}",
+            s.object.map_or("all".to_string(), |o| o.to_string()),
+            s.sightings,
+            s.events,
+            s.unscored,
+            st(s.self_error),
+            st(s.object_error),
+            st(s.best),
+            st(s.avg),
+            st(s.wavg),
+            st(s.fuzzy)
+        )?;
+    }
+    Ok(())
+}
