@@ -4,9 +4,10 @@
 //!
 //! Data: `$LPLACE_DATA/mrclam-dataset7` or `../shared/data/mrclam-dataset7` relative to the
 //! crate root. Configurations: `config/pf.ron`, `config/rmcl.ron`, `config/grid-mrclam.ron`.
-//! Optional argument: the robots to run (`1`, `1-5`; default 1-5). Seed 1 for every run.
+//! Optional arguments: the robots to run (`1`, `1-5`; default 1-5) and the seed of every run
+//! (default 1).
 //!
-//! `cargo run --release --example baselines_mrclam [1-5]`
+//! `cargo run --release --example baselines_mrclam [1-5] [seed]`
 
 use lplace::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
 use lplace::grid::run::GridLocalizer;
@@ -109,6 +110,10 @@ fn main() -> Res<()> {
             None => vec![s.parse()?],
         },
     };
+    let seed: u64 = match std::env::args().nth(2) {
+        Some(s) => s.parse()?,
+        None => 1,
+    };
     let pf = PfConfig::from_ron(&config("pf.ron")?)?;
     let rm = RmclConfig::from_ron(&config("rmcl.ron")?)?;
     let grid = GridConfig::from_ron(&config("grid-mrclam.ron")?)?;
@@ -138,7 +143,7 @@ fn main() -> Res<()> {
                 ..pf.clone()
             };
             let r = both(
-                &|| Ok(ParticleFilter::new(&table, &cfg, bounds, 1)?),
+                &|| Ok(ParticleFilter::new(&table, &cfg, bounds, seed)?),
                 &table,
                 &frames,
             )?;
@@ -147,7 +152,7 @@ fn main() -> Res<()> {
         let fallbacks = std::cell::Cell::new((0, 0));
         let r = both(
             &|| {
-                let m = FuzzyRmcl::new(&table, &rm, &grid, bounds, 1)?;
+                let m = FuzzyRmcl::new(&table, &rm, &grid, bounds, seed)?;
                 Ok(Counting(m, &fallbacks))
             },
             &table,
