@@ -661,6 +661,31 @@ mod tests {
     }
 
     #[test]
+    fn augmented_injection_hand_case() {
+        let table = LandmarkTable::new(vec![crate::grid::Landmark {
+            id: 1,
+            x: 0.0,
+            y: 0.0,
+        }])
+        .unwrap();
+        let cfg = PfConfig {
+            injection: Injection::Augmented {
+                alpha_slow: 0.001,
+                alpha_fast: 0.1,
+                max_fraction: 1.0,
+            },
+            ..PfConfig::default()
+        };
+        let mut pf = ParticleFilter::new(&table, &cfg, [0.0, 0.0, 1.0, 1.0], 1).unwrap();
+        // First reading: both averages start at 0.5 and stay there → p = 0.
+        assert_eq!(pf.injection_probability(0.5), 0.0);
+        // Mean likelihood drops to 0.1: w_slow = 0.5 + 0.001·(0.1 − 0.5) = 0.4996,
+        // w_fast = 0.5 + 0.1·(0.1 − 0.5) = 0.46, p = 1 − 0.46/0.4996 = 0.079263.
+        let p = pf.injection_probability(0.1);
+        assert!((p - 0.079_263).abs() < 1e-6, "{p}");
+    }
+
+    #[test]
     fn likelihood_hand_case() {
         let table = LandmarkTable::new(vec![crate::grid::Landmark {
             id: 1,
