@@ -10,6 +10,9 @@
 //!
 //! The modules follow the data: [`syntax`] (languages) → [`map`] (the graph) → [`engine`]
 //! (compile, step) using [`logic`] (semantics) → [`io`] (records) → `cli` (feature `cli`).
+//! The metric layer beside it: [`grid`] (paper 000's Fuzzy Position Grid), [`baseline`]
+//! (particle filter, Fuzzy R-MCL), all stepped and scored by one driver in [`localize`];
+//! [`coop`] fuses several robots' grids of one object (paper 002).
 //!
 //! # Example
 //! ```
