@@ -94,6 +94,15 @@ fn mrclam_fusion_gives_finite_errors() {
             assert!(v.is_finite() && *v >= 0.0, "{e:?}");
         }
     }
+    // The lost-observer row counts exactly the events with an observer beyond the threshold
+    // (brute force over the event list).
+    let lost = CoopConfig::default().lost_self_error;
+    let expect = r
+        .events
+        .iter()
+        .filter(|e| e.self_errors.iter().any(|&x| x > lost))
+        .count();
+    assert_eq!(r.with_lost_observer.events, expect);
     let fuzzy = r.overall.fuzzy.unwrap();
     // Robots 1–5 localize to a few decimetres; a fused error of metres would mean a frame or
     // sign mistake in the sup formula.

@@ -234,8 +234,22 @@ fn print_table(out: &mut impl Write, r: &Report) -> Result<(), CliError> {
                 .map_or("–".to_string(), |b| format!("{b:.0} of {}", r.cells)),
         )?;
     }
+    let lost = &r.with_lost_observer;
+    writeln!(
+        out,
+        "| with a lost observer | – | {} | {} | {} | {} | {} | {} | {} | {} | {} | – |",
+        lost.events,
+        st(lost.self_error),
+        st(lost.object_error),
+        st(lost.best),
+        st(lost.avg),
+        st(lost.wavg),
+        st(lost.fuzzy),
+        lost.fuzzy_beats_avg,
+        lost.fuzzy_beats_wavg,
+    )?;
     writeln!(out)?;
-    writeln!(out, "errors in metres, mean / median over events; Δ_self, Δ_object over every observer of every event; bytes: mean run-length code of one object grid, of the uncompressed one byte per cell")?;
+    writeln!(out, "errors in metres, mean / median over events; Δ_self, Δ_object over every observer of every event; lost observer: self error above the configuration's lost_self_error; bytes: mean run-length code of one object grid, of the uncompressed one byte per cell")?;
     writeln!(out)?;
     writeln!(out, "| observer | Δ_self | Δ_object |")?;
     writeln!(out, "|---|---|---|")?;

@@ -36,6 +36,10 @@ pub struct CoopConfig {
     pub window: f64,
     /// Fewest distinct observers an event needs. Default 2.
     pub min_observers: usize,
+    /// An observer whose self-localization error exceeds this (m) counts as *lost*; the
+    /// report has a separate row for the events with a lost observer (paper 002's case 3,
+    /// where averaging suffers). Default 0.5 m.
+    pub lost_self_error: f64,
 }
 
 impl Default for CoopConfig {
@@ -48,6 +52,7 @@ impl Default for CoopConfig {
             cog_cut: 0.5,
             window: 0.5,
             min_observers: 2,
+            lost_self_error: 0.5,
         }
     }
 }
@@ -90,6 +95,12 @@ impl CoopConfig {
         if !(self.window.is_finite() && self.window >= 0.0) {
             return Err(CoopError::BadConfig {
                 field: "window",
+                reason: "must be finite and ≥ 0",
+            });
+        }
+        if !(self.lost_self_error.is_finite() && self.lost_self_error >= 0.0) {
+            return Err(CoopError::BadConfig {
+                field: "lost_self_error",
                 reason: "must be finite and ≥ 0",
             });
         }

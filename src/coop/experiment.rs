@@ -192,6 +192,8 @@ pub struct Report {
     pub per_object: Vec<Summary>,
     /// All objects together.
     pub overall: Summary,
+    /// The events where some observer's self error exceeds [`CoopConfig::lost_self_error`].
+    pub with_lost_observer: Summary,
     /// Every scored event, in time order per object.
     pub events: Vec<EventScore>,
     /// Cells of one grid (the uncompressed size in bytes of one object grid).
@@ -295,9 +297,16 @@ pub fn run(
         all_events.extend(events);
     }
     let overall = summarise(None, sightings.len(), &all_events, all_unscored);
+    let lost: Vec<EventScore> = all_events
+        .iter()
+        .filter(|e| e.self_errors.iter().any(|&x| x > cfg.lost_self_error))
+        .cloned()
+        .collect();
+    let with_lost_observer = summarise(None, 0, &lost, 0);
     Ok(Report {
         per_object,
         overall,
+        with_lost_observer,
         events: all_events,
         cells,
         rejected_sightings: rejected,
