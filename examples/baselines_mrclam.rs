@@ -10,12 +10,12 @@
 //! `cargo run --release --example baselines_mrclam [1-5] [seed]`
 
 use lplace::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
+use lplace::grid::place::survey_landmarks;
 use lplace::grid::run::GridLocalizer;
-use lplace::grid::{GridConfig, Landmark, LandmarkTable};
-use lplace::io::mrclam::{self, MergeOptions, MetricFrame};
+use lplace::grid::{GridConfig, LandmarkTable};
+use lplace::io::mrclam::MetricFrame;
+use lplace::io::mrclam_dir;
 use lplace::localize::{drive, Kidnap, Localizer, Recovery, RunOptions, RunReport};
-use std::fs::File;
-use std::io::BufReader;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -28,31 +28,14 @@ fn data_dir() -> PathBuf {
     }
 }
 
-fn open(dir: &Path, name: &str) -> Res<BufReader<File>> {
-    Ok(BufReader::new(File::open(dir.join(name))?))
-}
-
 fn load(dir: &Path, robot: u32) -> Res<(LandmarkTable, Vec<MetricFrame>)> {
-    let codes = mrclam::read_barcodes(open(dir, "Barcodes.dat")?)?;
-    let marks = mrclam::read_landmarks(open(dir, "Landmark_Groundtruth.dat")?)?;
-    let table = LandmarkTable::new(
-        marks
-            .iter()
-            .map(|m| Landmark {
-                id: m.subject,
-                x: m.x as f32,
-                y: m.y as f32,
-            })
-            .collect(),
-    )?;
-    let odo = mrclam::read_odometry(open(dir, &format!("Robot{robot}_Odometry.dat"))?)?;
-    let meas =
-        mrclam::read_measurements(open(dir, &format!("Robot{robot}_Measurement.dat"))?, &codes)?;
-    let truth = mrclam::read_groundtruth(open(dir, &format!("Robot{robot}_Groundtruth.dat"))?)?;
-    Ok((
-        table,
-        mrclam::merge(&odo, &meas.rows, &truth, &MergeOptions::default()),
-    ))
+    let data = mrclam_dir::load(dir, &[robot])?;
+    for s in &data.skipped {
+        eprintln!("{}: {}", s.path.display(), s.error);
+    }
+    let table = survey_landmarks(data.survey()?)?;
+    let log = data.robots.into_iter().next().ok_or("no robot")?;
+    Ok((table, log.frames))
 }
 
 fn config(name: &str) -> Res<String> {

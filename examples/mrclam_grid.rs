@@ -7,11 +7,11 @@
 //!
 //! `cargo run --release --example mrclam_grid [config/grid-mrclam.ron]`
 
+use lplace::grid::place::survey_landmarks;
 use lplace::grid::run::{run, Kidnap, Recovery, RunOptions, RunReport};
-use lplace::grid::{GridConfig, Landmark, LandmarkTable};
-use lplace::io::mrclam::{self, MergeOptions, MetricFrame};
-use std::fs::File;
-use std::io::BufReader;
+use lplace::grid::{GridConfig, LandmarkTable};
+use lplace::io::mrclam::MetricFrame;
+use lplace::io::mrclam_dir;
 use std::path::PathBuf;
 
 fn data_dir() -> PathBuf {
@@ -21,32 +21,17 @@ fn data_dir() -> PathBuf {
     }
 }
 
-fn open(dir: &std::path::Path, name: &str) -> Result<BufReader<File>, Box<dyn std::error::Error>> {
-    Ok(BufReader::new(File::open(dir.join(name))?))
-}
-
 fn load(
     dir: &std::path::Path,
     robot: u32,
 ) -> Result<(LandmarkTable, Vec<MetricFrame>, usize), Box<dyn std::error::Error>> {
-    let codes = mrclam::read_barcodes(open(dir, "Barcodes.dat")?)?;
-    let marks = mrclam::read_landmarks(open(dir, "Landmark_Groundtruth.dat")?)?;
-    let table = LandmarkTable::new(
-        marks
-            .iter()
-            .map(|m| Landmark {
-                id: m.subject,
-                x: m.x as f32,
-                y: m.y as f32,
-            })
-            .collect(),
-    )?;
-    let odo = mrclam::read_odometry(open(dir, &format!("Robot{robot}_Odometry.dat"))?)?;
-    let meas =
-        mrclam::read_measurements(open(dir, &format!("Robot{robot}_Measurement.dat"))?, &codes)?;
-    let truth = mrclam::read_groundtruth(open(dir, &format!("Robot{robot}_Groundtruth.dat"))?)?;
-    let frames = mrclam::merge(&odo, &meas.rows, &truth, &MergeOptions::default());
-    Ok((table, frames, meas.misread))
+    let data = mrclam_dir::load(dir, &[robot])?;
+    for s in &data.skipped {
+        eprintln!("{}: {}", s.path.display(), s.error);
+    }
+    let table = survey_landmarks(data.survey()?)?;
+    let log = data.robots.into_iter().next().ok_or("no robot")?;
+    Ok((table, log.frames, log.misread))
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -4,10 +4,8 @@
 
 use lplace::coop::experiment::{run, Options, RobotLog};
 use lplace::coop::CoopConfig;
-use lplace::grid::{GridConfig, Landmark, LandmarkTable};
-use lplace::io::mrclam::*;
-use std::fs::File;
-use std::io::BufReader;
+use lplace::grid::place::survey_landmarks;
+use lplace::grid::GridConfig;
 use std::path::PathBuf;
 
 fn data_dir() -> PathBuf {
@@ -48,33 +46,10 @@ fn mrclam_fusion_gives_finite_errors() {
         );
         return;
     }
-    let open = |n: &str| BufReader::new(File::open(dir.join(n)).unwrap());
-    let codes = read_barcodes(open("Barcodes.dat")).unwrap();
-    let marks = read_landmarks(open("Landmark_Groundtruth.dat")).unwrap();
-    let table = LandmarkTable::new(
-        marks
-            .iter()
-            .map(|m| Landmark {
-                id: m.subject,
-                x: m.x as f32,
-                y: m.y as f32,
-            })
-            .collect(),
-    )
-    .unwrap();
-    let logs: Vec<RobotLog> = (1..=5)
-        .map(|robot| {
-            let odo = read_odometry(open(&format!("Robot{robot}_Odometry.dat"))).unwrap();
-            let meas =
-                read_measurements(open(&format!("Robot{robot}_Measurement.dat")), &codes).unwrap();
-            let truth = read_groundtruth(open(&format!("Robot{robot}_Groundtruth.dat"))).unwrap();
-            RobotLog {
-                robot,
-                frames: merge(&odo, &meas.rows, &truth, &MergeOptions::default()),
-                truth,
-            }
-        })
-        .collect();
+    let data = lplace::io::mrclam_dir::load(&dir, &[1, 2, 3, 4, 5]).unwrap();
+    assert!(data.skipped.is_empty(), "{:?}", data.skipped);
+    let table = survey_landmarks(data.survey().unwrap()).unwrap();
+    let logs: Vec<RobotLog> = data.robots;
     let grid = GridConfig::from_ron(&config("grid-mrclam.ron")).unwrap();
     let opts = Options {
         objects: Vec::new(),

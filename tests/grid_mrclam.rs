@@ -1,12 +1,11 @@
 //! The MRCLAM reader on hand-written lines, the TUM round trip, and the grid
 //! on real MRCLAM robot 1 data (skipped when the data set is absent).
 
+use lplace::grid::place::survey_landmarks;
 use lplace::grid::run::{run, RunOptions};
-use lplace::grid::{GridConfig, Landmark, LandmarkTable};
+use lplace::grid::GridConfig;
 use lplace::io::mrclam::*;
 use lplace::io::tum::{read_tum, write_tum, TumError, TumPose};
-use std::fs::File;
-use std::io::BufReader;
 use std::path::PathBuf;
 
 fn codes() -> Barcodes {
@@ -207,25 +206,11 @@ fn mrclam_robot1_ate_is_locked_in() {
         );
         return;
     }
-    let open = |n: &str| BufReader::new(File::open(dir.join(n)).unwrap());
-    let codes = read_barcodes(open("Barcodes.dat")).unwrap();
-    let marks = read_landmarks(open("Landmark_Groundtruth.dat")).unwrap();
-    assert_eq!(marks.len(), 15);
-    let table = LandmarkTable::new(
-        marks
-            .iter()
-            .map(|m| Landmark {
-                id: m.subject,
-                x: m.x as f32,
-                y: m.y as f32,
-            })
-            .collect(),
-    )
-    .unwrap();
-    let odo = read_odometry(open("Robot1_Odometry.dat")).unwrap();
-    let meas = read_measurements(open("Robot1_Measurement.dat"), &codes).unwrap();
-    let truth = read_groundtruth(open("Robot1_Groundtruth.dat")).unwrap();
-    let frames = merge(&odo, &meas.rows, &truth, &MergeOptions::default());
+    let data = lplace::io::mrclam_dir::load(&dir, &[1]).unwrap();
+    assert!(data.skipped.is_empty(), "{:?}", data.skipped);
+    assert_eq!(data.survey().unwrap().len(), 15);
+    let table = survey_landmarks(data.survey().unwrap()).unwrap();
+    let frames = data.robots.into_iter().next().unwrap().frames;
     let cfg = GridConfig::from_ron(include_str!("../config/grid-mrclam.ron")).unwrap();
     let rep = run(&table, &cfg, frames, &RunOptions::default()).unwrap();
     let ate = rep.ate.expect("a fix and truth");

@@ -9,6 +9,7 @@ use std::path::PathBuf;
 
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::io::carmen_stream::{convert, CarmenFramer};
+use crate::io::mrclam_dir;
 use crate::map::Map;
 use crate::percept::ExtractConfig;
 use crate::syntax::parse_map;
@@ -126,6 +127,39 @@ fn run_mrclam(args: &ExtractArgs, out: &mut impl Write) -> Result<u8, CliError> 
     })
 }
 
+/// Reads MRCLAM robots from `dir` ([`mrclam_dir::load`]), reporting every malformed line as
+/// FILE:LINE on stderr. Returns the dataset and the number of malformed lines skipped. Shared by
+/// the commands that read MRCLAM directories (`extract`, `grid`, `compare`, `fuse`).
+pub(super) fn load_mrclam_dir(
+    dir: &std::path::Path,
+    robots: &[u32],
+) -> Result<(mrclam_dir::Dataset, usize), CliError> {
+    let data = mrclam_dir::load(dir, robots).map_err(|e| match e {
+        mrclam_dir::DatasetError::Open { path, source } => CliError::Read {
+            path: path.display().to_string(),
+            source,
+        },
+        other => {
+            eprintln!("error: {other}");
+            CliError::Diagnostics { count: 1 }
+        }
+    })?;
+    for s in &data.skipped {
+        eprintln!("{}:{}", s.path.display(), line_problem(&s.error));
+    }
+    let skipped = data.skipped.len();
+    Ok((data, skipped))
+}
+
+/// `LINE: problem` of a reader error (the path is the caller's).
+fn line_problem(e: &crate::io::mrclam::MrclamError) -> String {
+    use crate::io::mrclam::MrclamError;
+    match e {
+        MrclamError::Malformed { line, problem, .. } => format!("{line}: {problem}"),
+        MrclamError::Read { line, source, .. } => format!("{line}: read error: {source}"),
+    }
+}
+
 /// Reads MRCLAM robot `robot` from `dir` into records, reporting malformed lines (FILE:LINE) and
 /// a summary on stderr. Returns the records and the number of malformed lines skipped.
 pub(super) fn load_mrclam(
@@ -133,56 +167,11 @@ pub(super) fn load_mrclam(
     robot: u32,
     map: &Map,
 ) -> Result<(Vec<crate::io::record::FrameRecord>, usize), CliError> {
-    use crate::io::mrclam::{self, MergeOptions, MrclamError};
-    use crate::io::mrclam_stream::{read_lenient, to_record};
-    if !(1..=5).contains(&robot) {
-        eprintln!("error: --robot {robot}: MRCLAM has robots 1 to 5");
+    use crate::io::mrclam_stream::to_record;
+    let (data, malformed) = load_mrclam_dir(dir, &[robot])?;
+    let Some(log) = data.robots.first() else {
         return Err(CliError::Diagnostics { count: 1 });
-    }
-    let mut malformed = 0usize;
-    // Reads one file leniently; every skipped line is reported with the file's path.
-    let mut load = |name: String, read: &mut dyn FnMut(&[u8]) -> Result<(), MrclamError>| {
-        let path = dir.join(&name);
-        let text = std::fs::read_to_string(&path).map_err(|source| CliError::Read {
-            path: path.display().to_string(),
-            source,
-        })?;
-        let shown = path.display().to_string();
-        match read_lenient(&text, |b| read(b)) {
-            Ok(((), skipped)) => {
-                for e in &skipped {
-                    report(&shown, e);
-                }
-                malformed += skipped.len();
-                Ok(())
-            }
-            Err(e) => {
-                report(&shown, &e);
-                Err(CliError::Diagnostics { count: 1 })
-            }
-        }
     };
-    let mut codes = mrclam::Barcodes::default();
-    load("Barcodes.dat".into(), &mut |b| {
-        codes = mrclam::read_barcodes(b)?;
-        Ok(())
-    })?;
-    let mut odo = Vec::new();
-    load(format!("Robot{robot}_Odometry.dat"), &mut |b| {
-        odo = mrclam::read_odometry(b)?;
-        Ok(())
-    })?;
-    let mut meas = mrclam::Measurements::default();
-    load(format!("Robot{robot}_Measurement.dat"), &mut |b| {
-        meas = mrclam::read_measurements(b, &codes)?;
-        Ok(())
-    })?;
-    let mut truth = Vec::new();
-    load(format!("Robot{robot}_Groundtruth.dat"), &mut |b| {
-        truth = mrclam::read_groundtruth(b)?;
-        Ok(())
-    })?;
-    let frames = mrclam::merge(&odo, &meas.rows, &truth, &MergeOptions::default());
     let names: std::collections::BTreeMap<u32, String> = map
         .landmarks()
         .iter()
@@ -200,11 +189,12 @@ pub(super) fn load_mrclam(
             .find(|p| p.contains(x, y))
             .map(|p| p.name.clone())
     };
-    let records: Vec<_> = frames
+    let records: Vec<_> = log
+        .frames
         .iter()
         .map(|f| to_record(f, &name_of, place_at))
         .collect();
-    let listed: Vec<String> = meas
+    let listed: Vec<String> = log
         .misread_barcodes
         .iter()
         .map(|(b, n)| format!("{b}×{n}"))
@@ -212,18 +202,10 @@ pub(super) fn load_mrclam(
     eprintln!(
         "extract: robot {robot}: {} frame(s), {} reading(s); {} misread barcode(s) dropped [{}]; {} malformed line(s) skipped",
         records.len(),
-        meas.rows.len(),
-        meas.misread,
+        log.readings,
+        log.misread,
         listed.join(", "),
         malformed
     );
     Ok((records, malformed))
-}
-
-fn report(path: &str, e: &crate::io::mrclam::MrclamError) {
-    use crate::io::mrclam::MrclamError;
-    match e {
-        MrclamError::Malformed { line, problem, .. } => eprintln!("{path}:{line}: {problem}"),
-        MrclamError::Read { line, source, .. } => eprintln!("{path}:{line}: read error: {source}"),
-    }
 }

@@ -14,9 +14,8 @@ use super::args::Format;
 use super::{read_source, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::coop::experiment::{self, Options, Report, RobotLog, Stat, Summary};
 use crate::coop::CoopConfig;
-use crate::grid::{GridConfig, Landmark, LandmarkTable};
-use crate::io::mrclam::{self, MergeOptions, MrclamError};
-use crate::io::mrclam_stream::read_lenient;
+use crate::grid::place::survey_landmarks;
+use crate::grid::{GridConfig, LandmarkTable};
 
 /// `lplace fuse`.
 #[derive(Debug, Clone, clap::Args)]
@@ -56,81 +55,16 @@ fn bad(msg: impl std::fmt::Display) -> CliError {
     CliError::Diagnostics { count: 1 }
 }
 
-/// Reads one MRCLAM file leniently: malformed lines are reported as PATH:LINE and counted.
-fn load<T>(
-    dir: &Path,
-    name: &str,
-    skipped: &mut usize,
-    read: impl FnMut(&[u8]) -> Result<T, MrclamError>,
-) -> Result<T, CliError> {
-    let path = dir.join(name);
-    let shown = path.display().to_string();
-    let text = std::fs::read_to_string(&path).map_err(|source| CliError::Read {
-        path: shown.clone(),
-        source,
-    })?;
-    let say = |e: &MrclamError| match e {
-        MrclamError::Malformed { line, problem, .. } => eprintln!("{shown}:{line}: {problem}"),
-        MrclamError::Read { line, source, .. } => eprintln!("{shown}:{line}: read error: {source}"),
-    };
-    match read_lenient(&text, read) {
-        Ok((v, errs)) => {
-            errs.iter().for_each(say);
-            *skipped += errs.len();
-            Ok(v)
-        }
-        Err(e) => {
-            say(&e);
-            Err(CliError::Diagnostics { count: 1 })
-        }
-    }
-}
-
-/// The landmark table and the five robots' logs of an MRCLAM directory.
+/// The landmark table and the five robots' logs of an MRCLAM directory; malformed lines are
+/// reported as FILE:LINE and counted in `skipped`.
 fn load_dataset(
     dir: &Path,
     skipped: &mut usize,
 ) -> Result<(LandmarkTable, Vec<RobotLog>), CliError> {
-    let codes = load(dir, "Barcodes.dat", skipped, |b| mrclam::read_barcodes(b))?;
-    let marks = load(dir, "Landmark_Groundtruth.dat", skipped, |b| {
-        mrclam::read_landmarks(b)
-    })?;
-    let table = LandmarkTable::new(
-        marks
-            .iter()
-            .map(|m| Landmark {
-                id: m.subject,
-                x: m.x as f32,
-                y: m.y as f32,
-            })
-            .collect(),
-    )
-    .map_err(bad)?;
-    let mut logs = Vec::new();
-    for robot in 1..=5u32 {
-        let odo = load(dir, &format!("Robot{robot}_Odometry.dat"), skipped, |b| {
-            mrclam::read_odometry(b)
-        })?;
-        let meas = load(
-            dir,
-            &format!("Robot{robot}_Measurement.dat"),
-            skipped,
-            |b| mrclam::read_measurements(b, &codes),
-        )?;
-        let truth = load(
-            dir,
-            &format!("Robot{robot}_Groundtruth.dat"),
-            skipped,
-            |b| mrclam::read_groundtruth(b),
-        )?;
-        let frames = mrclam::merge(&odo, &meas.rows, &truth, &MergeOptions::default());
-        logs.push(RobotLog {
-            robot,
-            frames,
-            truth,
-        });
-    }
-    Ok((table, logs))
+    let (data, n) = super::extract::load_mrclam_dir(dir, &[1, 2, 3, 4, 5])?;
+    *skipped += n;
+    let table = survey_landmarks(data.survey().map_err(bad)?).map_err(bad)?;
+    Ok((table, data.robots))
 }
 
 /// Runs `fuse`: the table to `out`, problems to stderr.

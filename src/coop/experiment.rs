@@ -44,21 +44,12 @@ use super::fuse::{average, fuse, weighted_average};
 use super::{object_grid, CoopConfig, CoopError, ObjectGrid, ObjectReading};
 use crate::grid::run::GridLocalizer;
 use crate::grid::{GridConfig, LandmarkTable};
-use crate::io::mrclam::{interpolate_truth, MetricFrame, TruthRow};
+use crate::io::mrclam::{interpolate_truth, TruthRow};
 use crate::localize::{Drive, RunOptions};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
-/// One robot's recording.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RobotLog {
-    /// Robot (subject) number; other robots' readings name it.
-    pub robot: u32,
-    /// Its frames ([`crate::io::mrclam::merge`]), readings of robots included.
-    pub frames: Vec<MetricFrame>,
-    /// Its ground truth, for scoring it as an object.
-    pub truth: Vec<TruthRow>,
-}
+pub use crate::io::mrclam_dir::RobotLog;
 
 /// What to run.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]

@@ -37,6 +37,7 @@
 //! ```
 
 use super::{FuzzyGrid, GridError, Landmark, LandmarkTable, Region, SensorModel};
+use crate::io::mrclam::LandmarkTruth;
 use crate::map::{Extent, Map};
 
 /// The map's places as cap regions, in place order.
@@ -80,6 +81,23 @@ pub fn map_landmarks(map: &Map) -> Result<(LandmarkTable, Vec<(String, u32)>), G
         names.push((l.name.clone(), id));
     }
     Ok((LandmarkTable::new(marks)?, names))
+}
+
+/// A surveyed landmark list (MRCLAM's `Landmark_Groundtruth.dat`) as a landmark table.
+///
+/// # Errors
+/// [`GridError`] when the table rejects the positions or ids.
+pub fn survey_landmarks(marks: &[LandmarkTruth]) -> Result<LandmarkTable, GridError> {
+    LandmarkTable::new(
+        marks
+            .iter()
+            .map(|m| Landmark {
+                id: m.subject,
+                x: m.x as f32,
+                y: m.y as f32,
+            })
+            .collect(),
+    )
 }
 
 /// A refined pose.
