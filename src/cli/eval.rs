@@ -1,9 +1,10 @@
 //! `lplace eval`: evaluate a percept stream (or one `--frame`) and print one decision per frame,
 //! then a summary.
 //!
-//! The stream is read line by line ([`crate::io::stream`]), each frame stepped through the engine
-//! and, unless `--no-track`, the [`Tracker`]; decisions are written as they come, so memory stays
-//! flat on any length. Rejected records are reported on stderr as `STREAM:LINE: reason`, counted,
+//! The stream is read line by line ([`crate::io::stream`]) — on a second thread, a few batches
+//! ahead, when the machine has a second core ([`Threads::available`]) — and each frame stepped
+//! through the engine and, unless `--no-track`, the [`Tracker`]; decisions are written as they
+//! come, so memory stays flat on any length. Rejected records are reported on stderr as `STREAM:LINE: reason`, counted,
 //! and make the exit code 3.
 
 use super::args::{ArgError, EvalArgs, Format, StreamForm, SummaryFormat};
@@ -11,7 +12,9 @@ use super::{load_engine, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::engine::tracker::{Tracker, TrackerConfig};
 use crate::engine::{CompileOptions, Engine};
 use crate::io::record::FrameRecord;
-use crate::io::stream::{FrameMeta, ReadOutcome, Schema, StreamFormat, StreamReader};
+use crate::io::stream::{
+    read_records, FrameMeta, Record, Schema, StreamFormat, StreamReader, Threads,
+};
 use crate::logic::{Decision, DecisionParams, PlaceDistribution};
 use crate::report::summary::reason_name;
 use crate::report::{RunPlot, Tally};
@@ -294,7 +297,7 @@ impl Session<'_> {
 fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
     let engine = load_engine(&args.model, &CompileOptions::default())?;
     let cfg = tracker_config(args)?;
-    let (name, input, size): (String, Box<dyn BufRead>, Option<u64>) = match &args.stream {
+    let (name, input, size): (String, Box<dyn BufRead + Send>, Option<u64>) = match &args.stream {
         None => (
             "recordings/office.jsonl (bundled)".into(),
             Box::new(OFFICE_RECORDING.as_bytes()),
@@ -330,7 +333,7 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
     };
     let schema = Schema::new(engine.percepts(), engine.map());
     let places = schema.places().to_vec();
-    let mut reader = StreamReader::new(input, schema, format);
+    let reader = StreamReader::new(input, schema, format);
     let logic = engine.rules().logic;
     let tracker = (!args.no_track).then(|| {
         Tracker::new(
@@ -342,8 +345,6 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
             cfg,
         )
     });
-    let mut frame = engine.new_frame();
-    let mut meta = FrameMeta::default();
     let mut tally = Tally::new(places.clone(), tracker.is_some());
     let mut plot = args
         .plot
@@ -373,40 +374,46 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
     if !args.only_summary {
         session.write_header(&mut w)?;
     }
-    loop {
-        let got = reader
-            .next_frame(&mut frame, &mut meta)
-            .map_err(|source| CliError::Read {
-                path: name.clone(),
-                source,
-            })?;
-        match got {
-            ReadOutcome::End => break,
-            ReadOutcome::Rejected(e) => {
-                let msg = format!("{name}:{e}");
-                match &progress {
-                    Some(bar) => bar.suspend(|| eprintln!("{msg}")),
-                    None => eprintln!("{msg}"),
-                }
-                tally.reject(&e.reason);
-            }
-            ReadOutcome::Frame => {
-                let d = session.step(&frame, &meta);
-                tally.record(d, &meta);
-                if let Some(p) = &mut plot {
-                    p.push(session.dist(), d, meta.truth_place);
-                }
-                if !args.only_summary {
-                    session.write_decision(&mut w, d, &meta)?;
-                }
-            }
-        }
+    let show_progress = |r: &StreamReader<_>| {
         if let Some(bar) = &progress {
-            if reader.lines_read() % 4096 == 0 {
-                bar.set_position(reader.bytes_read());
+            if r.lines_read() % 4096 == 0 {
+                bar.set_position(r.bytes_read());
             }
         }
-    }
+    };
+    let read_error = |source| CliError::Read {
+        path: name.clone(),
+        source,
+    };
+    read_records(
+        reader,
+        Threads::available(),
+        show_progress,
+        read_error,
+        |record| {
+            match record {
+                Record::Rejected(e) => {
+                    let msg = format!("{name}:{e}");
+                    match &progress {
+                        Some(bar) => bar.suspend(|| eprintln!("{msg}")),
+                        None => eprintln!("{msg}"),
+                    }
+                    tally.reject(&e.reason);
+                }
+                Record::Frame(frame, meta) => {
+                    let d = session.step(frame, meta);
+                    tally.record(d, meta);
+                    if let Some(p) = &mut plot {
+                        p.push(session.dist(), d, meta.truth_place);
+                    }
+                    if !args.only_summary {
+                        session.write_decision(&mut w, d, meta)?;
+                    }
+                }
+            }
+            Ok::<(), CliError>(())
+        },
+    )?;
     if let Some(bar) = &progress {
         bar.finish_and_clear();
     }
