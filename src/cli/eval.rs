@@ -141,6 +141,22 @@ fn write_degree(out: &mut impl Write, x: f64) -> std::io::Result<()> {
     out.write_all(&digits)
 }
 
+/// Writes `n` in decimal, without going through the formatting machinery (per-frame path).
+fn write_u64(out: &mut impl Write, mut n: u64) -> std::io::Result<()> {
+    // u64::MAX has 20 digits.
+    let mut digits = [0u8; 20];
+    let mut start = digits.len();
+    loop {
+        start -= 1;
+        digits[start] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    out.write_all(&digits[start..])
+}
+
 /// Everything one stream evaluation needs, built once.
 struct Session<'a> {
     engine: Engine,
@@ -204,32 +220,41 @@ impl Session<'_> {
         };
         match self.args.format {
             Format::Json => {
-                write!(out, "{{\"line\":{}", meta.line)?;
+                out.write_all(b"{\"line\":")?;
+                write_u64(out, meta.line)?;
                 if let Some(t) = meta.t {
                     write!(out, ",\"t\":{t}")?;
                 }
                 match d {
                     Decision::Place { place, necessity } => {
-                        write!(out, ",\"place\":\"{}\",\"necessity\":", name(place))?;
+                        out.write_all(b",\"place\":\"")?;
+                        out.write_all(name(place).as_bytes())?;
+                        out.write_all(b"\",\"necessity\":")?;
                         write_degree(out, necessity)?;
                     }
                     Decision::Disoriented(why) => {
-                        write!(out, ",\"place\":null,\"reason\":\"{}\"", reason_name(&why))?;
+                        out.write_all(b",\"place\":null,\"reason\":\"")?;
+                        out.write_all(reason_name(&why).as_bytes())?;
+                        out.write_all(b"\"")?;
                     }
                 }
-                write!(out, ",\"inconsistency\":")?;
+                out.write_all(b",\"inconsistency\":")?;
                 write_degree(out, dist.inconsistency)?;
                 match truth {
-                    Some(t) if meta.truth_place.is_some() => write!(out, ",\"truth\":\"{t}\"")?,
-                    Some(_) => write!(out, ",\"truth\":null")?,
+                    Some(t) if meta.truth_place.is_some() => {
+                        out.write_all(b",\"truth\":\"")?;
+                        out.write_all(t.as_bytes())?;
+                        out.write_all(b"\"")?;
+                    }
+                    Some(_) => out.write_all(b",\"truth\":null")?,
                     None => {}
                 }
                 if self.args.degrees {
                     for (key, v) in [
-                        ("possibility", &dist.possibility),
-                        ("necessities", &dist.necessity),
+                        (&b",\"possibility\":["[..], &dist.possibility),
+                        (&b",\"necessities\":["[..], &dist.necessity),
                     ] {
-                        write!(out, ",\"{key}\":[")?;
+                        out.write_all(key)?;
                         for (i, x) in v.iter().enumerate() {
                             if i > 0 {
                                 out.write_all(b",")?;
@@ -242,24 +267,28 @@ impl Session<'_> {
                 out.write_all(b"}\n")
             }
             Format::Csv => {
-                write!(
-                    out,
-                    "{},{},",
-                    meta.line,
-                    meta.t.map_or(String::new(), |t| t.to_string())
-                )?;
+                write_u64(out, meta.line)?;
+                out.write_all(b",")?;
+                if let Some(t) = meta.t {
+                    write!(out, "{t}")?;
+                }
                 match d {
                     Decision::Place { place, necessity } => {
-                        write!(out, "place,{},", name(place))?;
+                        out.write_all(b",place,")?;
+                        out.write_all(name(place).as_bytes())?;
+                        out.write_all(b",")?;
                         write_degree(out, necessity)?;
                         out.write_all(b",,")?;
                     }
                     Decision::Disoriented(why) => {
-                        write!(out, "disoriented,,,{},", reason_name(&why))?;
+                        out.write_all(b",disoriented,,,")?;
+                        out.write_all(reason_name(&why).as_bytes())?;
+                        out.write_all(b",")?;
                     }
                 }
                 write_degree(out, dist.inconsistency)?;
-                write!(out, ",{}", truth.unwrap_or(""))?;
+                out.write_all(b",")?;
+                out.write_all(truth.unwrap_or("").as_bytes())?;
                 if self.args.degrees {
                     for k in 0..self.places.len() {
                         out.write_all(b",")?;
@@ -452,5 +481,25 @@ fn write_summary(
             writeln!(out)
         }
         SummaryFormat::None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn u64_in_decimal() {
+        for (n, want) in [
+            (0u64, "0"),
+            (7, "7"),
+            (10, "10"),
+            (1_000_001, "1000001"),
+            (u64::MAX, "18446744073709551615"),
+        ] {
+            let mut out = Vec::new();
+            write_u64(&mut out, n).expect("writes to a Vec");
+            assert_eq!(out, want.as_bytes());
+        }
     }
 }
