@@ -186,6 +186,8 @@ pub struct Tracker {
     /// `R_ij` at this step's distances, row-major: filled by the blur, reused by the revision
     /// (`since` does not change in between).
     reach: Vec<f64>,
+    /// Whether row `i` of `reach` was filled this step (else it is all zeros; see the blur).
+    live: Vec<bool>,
     /// `e_j`, the frame's clamped possibility, read once per step rather than once per pair.
     evid: Vec<f64>,
     /// `min(π'_j, e_j)`: how far the frame agrees with place `j` (the revision's inner term).
@@ -221,6 +223,11 @@ struct Gates {
     length: Vec<f64>,
     half: Vec<f64>,
     slope: Vec<f64>,
+    /// Per row `i`, a distance beyond which every `R_ij` is 0: past `L + half + slope` of each
+    /// pair with a path, with a margin (10⁻⁶ relative and absolute) far above the rounding of
+    /// `d − half` and the division, so `1 − (d − half)/slope` is surely ≤ 0 (or, slope 0,
+    /// `d > half`). NaN (an unvalidated NaN config) compares false: the row is never skipped.
+    bound: Vec<f64>,
 }
 
 /// One row of [`Gates`]: the pairs `(i, ·)`.
@@ -238,6 +245,7 @@ impl Gates {
             length: vec![0.0; n * n],
             half: vec![f64::NEG_INFINITY; n * n],
             slope: vec![0.0; n * n],
+            bound: vec![0.0; n],
         };
         for i in 0..n {
             for j in 0..n {
@@ -256,6 +264,13 @@ impl Gates {
                 g.length[k] = l;
                 g.half[k] = 0.5 * core;
                 g.slope[k] = if slope > 0.0 { slope } else { 0.0 };
+                let far = (l + g.half[k] + g.slope[k]) * (1.0 + 1e-6) + 1e-6;
+                // Not `f64::max`: a NaN must stick, so that the row is never skipped.
+                g.bound[i] = if far > g.bound[i] || far.is_nan() {
+                    far
+                } else {
+                    g.bound[i]
+                };
             }
         }
         g
@@ -301,6 +316,7 @@ impl Tracker {
             since: vec![0.0; n],
             pred: vec![1.0; n],
             reach: vec![0.0; n * n],
+            live: vec![true; n],
             evid: vec![0.0; n],
             agree: vec![0.0; n],
             dist: PlaceDistribution::new(n),
@@ -351,10 +367,20 @@ impl Tracker {
         // Blur: carry each anchor along the graph. Every `R_ij` is computed (the revision needs
         // them too), branch-free over a row so that the compiler can vectorise it; max and min
         // select exactly, so the order of the terms does not change `pred`.
+        // An anchor farther than every path from it (`s_i` past its row's bound; common, as
+        // `s_i` grows until the place is seen again) has a row of zeros, which raises no `pred`
+        // and no `compat`: its row is skipped here and in the revision.
         self.pred.fill(0.0);
         if n > 0 {
             let rows = self.reach.chunks_exact_mut(n).zip(self.gates.rows(n));
-            for ((row, gate), (&a, &s)) in rows.zip(self.anchor.iter().zip(&self.since)) {
+            let anchors = self.anchor.iter().zip(&self.since).zip(&self.gates.bound);
+            for (((row, gate), live), ((&a, &s), &bound)) in
+                rows.zip(self.live.iter_mut()).zip(anchors)
+            {
+                *live = s <= bound || bound.is_nan();
+                if !*live {
+                    continue;
+                }
                 gate.fill(s, row);
                 for (p, &r) in self.pred.iter_mut().zip(row.iter()) {
                     *p = p.max(a.min(r));
@@ -400,10 +426,13 @@ impl Tracker {
             *g = p.min(e);
         }
         if n > 0 {
-            for (m, row) in self.anchor.iter_mut().zip(self.reach.chunks_exact(n)) {
+            let rows = self.reach.chunks_exact(n).zip(&self.live);
+            for (m, (row, &live)) in self.anchor.iter_mut().zip(rows) {
                 let mut compat = between;
-                for (&r, &g) in row.iter().zip(&self.agree) {
-                    compat = compat.max(r.min(g));
+                if live {
+                    for (&r, &g) in row.iter().zip(&self.agree) {
+                        compat = compat.max(r.min(g));
+                    }
                 }
                 *m = t.apply(*m, compat.max(b));
             }
