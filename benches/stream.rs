@@ -5,15 +5,18 @@
 //! - `plain_serde_parse`: `serde_json::from_slice::<FrameRecord>` per line (owned strings and
 //!   vectors), the baseline the issue asks for;
 //! - `plain_serde_parse_fill`: the same, then `FrameRecord::fill` into the engine's `Frame`;
-//! - `eval_no_track` / `eval_tracked`: the stream reader straight into the `Frame`, the engine
-//!   step, the tracker (or not), the summary tally and the JSON decision line written to a sink —
-//!   what `lplace eval` does per frame.
+//! - `eval_no_track` / `eval_tracked`: `read_records` on one thread straight into the `Frame`, the
+//!   engine step, the tracker (or not), the summary tally and a short JSON line written to a sink;
+//! - `eval_tracked_read_ahead`: the same with the reading on a second thread, as `lplace eval`
+//!   does when it has two cores;
+//! - `cli_eval_tracked`: the `lplace eval` binary itself on the stream written to a temporary
+//!   file, decisions to a null sink (process start included, a few milliseconds).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use lplace::engine::tracker::{Tracker, TrackerConfig};
 use lplace::engine::Engine;
 use lplace::io::record::FrameRecord;
-use lplace::io::stream::{FrameMeta, ReadOutcome, Schema, StreamFormat, StreamReader};
+use lplace::io::stream::{read_records, Record, Schema, StreamFormat, StreamReader, Threads};
 use lplace::logic::DecisionParams;
 use lplace::report::Tally;
 use lplace::sim::{SimConfig, Simulator};
@@ -36,7 +39,7 @@ fn stream(engine: &Engine) -> Vec<u8> {
     out
 }
 
-fn eval(engine: &mut Engine, bytes: &[u8], track: bool) -> u64 {
+fn eval(engine: &mut Engine, bytes: &[u8], track: bool, threads: Threads) -> u64 {
     let logic = engine.rules().logic;
     let mut tracker = track.then(|| {
         Tracker::new(
@@ -50,27 +53,32 @@ fn eval(engine: &mut Engine, bytes: &[u8], track: bool) -> u64 {
     });
     let schema = Schema::new(engine.percepts(), engine.map());
     let mut tally = Tally::new(schema.places().to_vec(), track);
-    let mut reader = StreamReader::new(bytes, schema, StreamFormat::JsonLines);
-    let mut frame = engine.new_frame();
-    let mut meta = FrameMeta::default();
+    let reader = StreamReader::new(bytes, schema, StreamFormat::JsonLines);
     let mut sink = std::io::BufWriter::new(std::io::sink());
     let mut n = 0;
-    while let Ok(r) = reader.next_frame(&mut frame, &mut meta) {
-        match r {
-            ReadOutcome::End => break,
-            ReadOutcome::Rejected(e) => tally.reject(&e.reason),
-            ReadOutcome::Frame => {
-                engine.step(&frame);
-                let d = match &mut tracker {
-                    Some(t) => t.step(engine.distribution(), meta.odometry),
-                    None => engine.decision(),
-                };
-                tally.record(d, &meta);
-                let _ = writeln!(sink, "{{\"line\":{},\"place\":{:?}}}", meta.line, d.place());
-                n += 1;
+    let done = read_records(
+        reader,
+        threads,
+        |_| {},
+        |e| e,
+        |record| {
+            match record {
+                Record::Rejected(e) => tally.reject(&e.reason),
+                Record::Frame(frame, meta) => {
+                    engine.step(frame);
+                    let d = match &mut tracker {
+                        Some(t) => t.step(engine.distribution(), meta.odometry),
+                        None => engine.decision(),
+                    };
+                    tally.record(d, meta);
+                    writeln!(sink, "{{\"line\":{},\"place\":{:?}}}", meta.line, d.place())?;
+                    n += 1;
+                }
             }
-        }
-    }
+            Ok(())
+        },
+    );
+    done.expect("in-memory stream");
     n
 }
 
@@ -103,11 +111,29 @@ fn bench(c: &mut Criterion) {
         })
     });
     g.bench_function("eval_no_track", |b| {
-        b.iter(|| black_box(eval(&mut engine, &bytes, false)))
+        b.iter(|| black_box(eval(&mut engine, &bytes, false, Threads::One)))
     });
     g.bench_function("eval_tracked", |b| {
-        b.iter(|| black_box(eval(&mut engine, &bytes, true)))
+        b.iter(|| black_box(eval(&mut engine, &bytes, true, Threads::One)))
     });
+    g.bench_function("eval_tracked_read_ahead", |b| {
+        b.iter(|| black_box(eval(&mut engine, &bytes, true, Threads::ReadAhead)))
+    });
+    let path = std::env::temp_dir().join(format!("lplace-bench-{}.jsonl", std::process::id()));
+    std::fs::write(&path, &bytes).expect("temporary stream written");
+    g.bench_function("cli_eval_tracked", |b| {
+        b.iter(|| {
+            let status = std::process::Command::new(env!("CARGO_BIN_EXE_lplace"))
+                .arg("eval")
+                .arg(&path)
+                .args(["--summary", "none"])
+                .stdout(std::process::Stdio::null())
+                .status()
+                .expect("lplace runs");
+            black_box(status.success())
+        })
+    });
+    let _ = std::fs::remove_file(&path);
     g.finish();
 }
 

@@ -1,9 +1,10 @@
 //! `lplace eval`: evaluate a percept stream (or one `--frame`) and print one decision per frame,
 //! then a summary.
 //!
-//! The stream is read line by line ([`crate::io::stream`]), each frame stepped through the engine
-//! and, unless `--no-track`, the [`Tracker`]; decisions are written as they come, so memory stays
-//! flat on any length. Rejected records are reported on stderr as `STREAM:LINE: reason`, counted,
+//! The stream is read line by line ([`crate::io::stream`]) — on a second thread, a few batches
+//! ahead, when the machine has a second core ([`Threads::available`]) — and each frame stepped
+//! through the engine and, unless `--no-track`, the [`Tracker`]; decisions are written as they
+//! come, so memory stays flat on any length. Rejected records are reported on stderr as `STREAM:LINE: reason`, counted,
 //! and make the exit code 3.
 
 use super::args::{ArgError, EvalArgs, Format, StreamForm, SummaryFormat};
@@ -11,7 +12,9 @@ use super::{load_engine, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::engine::tracker::{Tracker, TrackerConfig};
 use crate::engine::{CompileOptions, Engine};
 use crate::io::record::FrameRecord;
-use crate::io::stream::{FrameMeta, ReadOutcome, Schema, StreamFormat, StreamReader};
+use crate::io::stream::{
+    read_records, FrameMeta, Record, Schema, StreamFormat, StreamReader, Threads,
+};
 use crate::logic::{Decision, DecisionParams, PlaceDistribution};
 use crate::report::summary::reason_name;
 use crate::report::{RunPlot, Tally};
@@ -138,6 +141,22 @@ fn write_degree(out: &mut impl Write, x: f64) -> std::io::Result<()> {
     out.write_all(&digits)
 }
 
+/// Writes `n` in decimal, without going through the formatting machinery (per-frame path).
+fn write_u64(out: &mut impl Write, mut n: u64) -> std::io::Result<()> {
+    // u64::MAX has 20 digits.
+    let mut digits = [0u8; 20];
+    let mut start = digits.len();
+    loop {
+        start -= 1;
+        digits[start] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    out.write_all(&digits[start..])
+}
+
 /// Everything one stream evaluation needs, built once.
 struct Session<'a> {
     engine: Engine,
@@ -201,32 +220,41 @@ impl Session<'_> {
         };
         match self.args.format {
             Format::Json => {
-                write!(out, "{{\"line\":{}", meta.line)?;
+                out.write_all(b"{\"line\":")?;
+                write_u64(out, meta.line)?;
                 if let Some(t) = meta.t {
                     write!(out, ",\"t\":{t}")?;
                 }
                 match d {
                     Decision::Place { place, necessity } => {
-                        write!(out, ",\"place\":\"{}\",\"necessity\":", name(place))?;
+                        out.write_all(b",\"place\":\"")?;
+                        out.write_all(name(place).as_bytes())?;
+                        out.write_all(b"\",\"necessity\":")?;
                         write_degree(out, necessity)?;
                     }
                     Decision::Disoriented(why) => {
-                        write!(out, ",\"place\":null,\"reason\":\"{}\"", reason_name(&why))?;
+                        out.write_all(b",\"place\":null,\"reason\":\"")?;
+                        out.write_all(reason_name(&why).as_bytes())?;
+                        out.write_all(b"\"")?;
                     }
                 }
-                write!(out, ",\"inconsistency\":")?;
+                out.write_all(b",\"inconsistency\":")?;
                 write_degree(out, dist.inconsistency)?;
                 match truth {
-                    Some(t) if meta.truth_place.is_some() => write!(out, ",\"truth\":\"{t}\"")?,
-                    Some(_) => write!(out, ",\"truth\":null")?,
+                    Some(t) if meta.truth_place.is_some() => {
+                        out.write_all(b",\"truth\":\"")?;
+                        out.write_all(t.as_bytes())?;
+                        out.write_all(b"\"")?;
+                    }
+                    Some(_) => out.write_all(b",\"truth\":null")?,
                     None => {}
                 }
                 if self.args.degrees {
                     for (key, v) in [
-                        ("possibility", &dist.possibility),
-                        ("necessities", &dist.necessity),
+                        (&b",\"possibility\":["[..], &dist.possibility),
+                        (&b",\"necessities\":["[..], &dist.necessity),
                     ] {
-                        write!(out, ",\"{key}\":[")?;
+                        out.write_all(key)?;
                         for (i, x) in v.iter().enumerate() {
                             if i > 0 {
                                 out.write_all(b",")?;
@@ -239,24 +267,28 @@ impl Session<'_> {
                 out.write_all(b"}\n")
             }
             Format::Csv => {
-                write!(
-                    out,
-                    "{},{},",
-                    meta.line,
-                    meta.t.map_or(String::new(), |t| t.to_string())
-                )?;
+                write_u64(out, meta.line)?;
+                out.write_all(b",")?;
+                if let Some(t) = meta.t {
+                    write!(out, "{t}")?;
+                }
                 match d {
                     Decision::Place { place, necessity } => {
-                        write!(out, "place,{},", name(place))?;
+                        out.write_all(b",place,")?;
+                        out.write_all(name(place).as_bytes())?;
+                        out.write_all(b",")?;
                         write_degree(out, necessity)?;
                         out.write_all(b",,")?;
                     }
                     Decision::Disoriented(why) => {
-                        write!(out, "disoriented,,,{},", reason_name(&why))?;
+                        out.write_all(b",disoriented,,,")?;
+                        out.write_all(reason_name(&why).as_bytes())?;
+                        out.write_all(b",")?;
                     }
                 }
                 write_degree(out, dist.inconsistency)?;
-                write!(out, ",{}", truth.unwrap_or(""))?;
+                out.write_all(b",")?;
+                out.write_all(truth.unwrap_or("").as_bytes())?;
                 if self.args.degrees {
                     for k in 0..self.places.len() {
                         out.write_all(b",")?;
@@ -294,7 +326,7 @@ impl Session<'_> {
 fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
     let engine = load_engine(&args.model, &CompileOptions::default())?;
     let cfg = tracker_config(args)?;
-    let (name, input, size): (String, Box<dyn BufRead>, Option<u64>) = match &args.stream {
+    let (name, input, size): (String, Box<dyn BufRead + Send>, Option<u64>) = match &args.stream {
         None => (
             "recordings/office.jsonl (bundled)".into(),
             Box::new(OFFICE_RECORDING.as_bytes()),
@@ -330,7 +362,7 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
     };
     let schema = Schema::new(engine.percepts(), engine.map());
     let places = schema.places().to_vec();
-    let mut reader = StreamReader::new(input, schema, format);
+    let reader = StreamReader::new(input, schema, format);
     let logic = engine.rules().logic;
     let tracker = (!args.no_track).then(|| {
         Tracker::new(
@@ -342,8 +374,6 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
             cfg,
         )
     });
-    let mut frame = engine.new_frame();
-    let mut meta = FrameMeta::default();
     let mut tally = Tally::new(places.clone(), tracker.is_some());
     let mut plot = args
         .plot
@@ -373,40 +403,46 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
     if !args.only_summary {
         session.write_header(&mut w)?;
     }
-    loop {
-        let got = reader
-            .next_frame(&mut frame, &mut meta)
-            .map_err(|source| CliError::Read {
-                path: name.clone(),
-                source,
-            })?;
-        match got {
-            ReadOutcome::End => break,
-            ReadOutcome::Rejected(e) => {
-                let msg = format!("{name}:{e}");
-                match &progress {
-                    Some(bar) => bar.suspend(|| eprintln!("{msg}")),
-                    None => eprintln!("{msg}"),
-                }
-                tally.reject(&e.reason);
-            }
-            ReadOutcome::Frame => {
-                let d = session.step(&frame, &meta);
-                tally.record(d, &meta);
-                if let Some(p) = &mut plot {
-                    p.push(session.dist(), d, meta.truth_place);
-                }
-                if !args.only_summary {
-                    session.write_decision(&mut w, d, &meta)?;
-                }
-            }
-        }
+    let show_progress = |r: &StreamReader<_>| {
         if let Some(bar) = &progress {
-            if reader.lines_read() % 4096 == 0 {
-                bar.set_position(reader.bytes_read());
+            if r.lines_read() % 4096 == 0 {
+                bar.set_position(r.bytes_read());
             }
         }
-    }
+    };
+    let read_error = |source| CliError::Read {
+        path: name.clone(),
+        source,
+    };
+    read_records(
+        reader,
+        Threads::available(),
+        show_progress,
+        read_error,
+        |record| {
+            match record {
+                Record::Rejected(e) => {
+                    let msg = format!("{name}:{e}");
+                    match &progress {
+                        Some(bar) => bar.suspend(|| eprintln!("{msg}")),
+                        None => eprintln!("{msg}"),
+                    }
+                    tally.reject(&e.reason);
+                }
+                Record::Frame(frame, meta) => {
+                    let d = session.step(frame, meta);
+                    tally.record(d, meta);
+                    if let Some(p) = &mut plot {
+                        p.push(session.dist(), d, meta.truth_place);
+                    }
+                    if !args.only_summary {
+                        session.write_decision(&mut w, d, meta)?;
+                    }
+                }
+            }
+            Ok::<(), CliError>(())
+        },
+    )?;
     if let Some(bar) = &progress {
         bar.finish_and_clear();
     }
@@ -445,5 +481,25 @@ fn write_summary(
             writeln!(out)
         }
         SummaryFormat::None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn u64_in_decimal() {
+        for (n, want) in [
+            (0u64, "0"),
+            (7, "7"),
+            (10, "10"),
+            (1_000_001, "1000001"),
+            (u64::MAX, "18446744073709551615"),
+        ] {
+            let mut out = Vec::new();
+            write_u64(&mut out, n).expect("writes to a Vec");
+            assert_eq!(out, want.as_bytes());
+        }
     }
 }

@@ -43,7 +43,7 @@
 use crate::io::record::Odometry;
 use crate::logic::{
     clamp_degree, decide, Decision, DecisionParams, Disoriented, Normalisation, PlaceDistribution,
-    TNorm, Trapezoid,
+    TNorm,
 };
 use crate::map::{Extent, Map};
 use serde::{Deserialize, Serialize};
@@ -178,13 +178,20 @@ pub struct Tracker {
     cfg: TrackerConfig,
     params: DecisionParams,
     n: usize,
-    /// `L'_ij`, row-major.
-    lengths: Vec<f64>,
-    /// `R_ij`'s shape per pair (core and slope depend on the path length).
-    shapes: Vec<Trapezoid>,
+    /// `R_ij`'s trapezoid per pair, row-major, as three arrays (see [`Gates`]).
+    gates: Gates,
     anchor: Vec<f64>,
     since: Vec<f64>,
     pred: Vec<f64>,
+    /// `R_ij` at this step's distances, row-major: filled by the blur, reused by the revision
+    /// (`since` does not change in between).
+    reach: Vec<f64>,
+    /// Whether row `i` of `reach` was filled this step (else it is all zeros; see the blur).
+    live: Vec<bool>,
+    /// `e_j`, the frame's clamped possibility, read once per step rather than once per pair.
+    evid: Vec<f64>,
+    /// `min(π'_j, e_j)`: how far the frame agrees with place `j` (the revision's inner term).
+    agree: Vec<f64>,
     dist: PlaceDistribution,
     decision: Decision,
 }
@@ -197,13 +204,49 @@ fn extent_radius(e: Extent) -> f64 {
     }
 }
 
-impl Tracker {
-    /// A tracker over `map`, deciding with `params` (the rule file's threshold and margin).
-    pub fn new(map: &Map, params: DecisionParams, cfg: TrackerConfig) -> Tracker {
+/// `R_ij`'s trapezoid per pair as structure-of-arrays, encoded so that one branch-free
+/// expression ([`Gates::fill`]) gives exactly [`Trapezoid::degree`](crate::logic::Trapezoid::degree)`(s, L'_ij)` of the shape
+/// `core = 2(tolerance + tolerance_rel·L)`, `slope = slope + slope_rel·L`, height 1, bias 0, and
+/// 0 for pairs with no path:
+///
+/// - `half` is `0.5 · core` as `degree` computes it;
+/// - a slope that is not positive (only from an unvalidated config) is stored as `+0`, so that
+///   beyond the core `(d − half)/0 = +∞` and `max(0, 1 − ∞) = 0`, as `degree` returns there;
+/// - a pair with no path has `L = 0`, `half = −∞`, slope `+0`: `d ≤ −∞` never holds and
+///   `(d + ∞)/0 = +∞` gives 0. (`degree` itself is not asked: it would give the bias for an
+///   infinite distance, which is 0 too.)
+///
+/// `d = |s − L|` is always finite here (`s` is capped, `L` finite), so `degree`'s non-finite
+/// branch is never taken; `0 + (1 − 0)·f = f` exactly, as `f` is never NaN.
+#[derive(Debug, Clone)]
+struct Gates {
+    length: Vec<f64>,
+    half: Vec<f64>,
+    slope: Vec<f64>,
+    /// Per row `i`, a distance beyond which every `R_ij` is 0: past `L + half + slope` of each
+    /// pair with a path, with a margin (10⁻⁶ relative and absolute) far above the rounding of
+    /// `d − half` and the division, so `1 − (d − half)/slope` is surely ≤ 0 (or, slope 0,
+    /// `d > half`). NaN (an unvalidated NaN config) compares false: the row is never skipped.
+    bound: Vec<f64>,
+}
+
+/// One row of [`Gates`]: the pairs `(i, ·)`.
+struct GateRow<'a> {
+    length: &'a [f64],
+    half: &'a [f64],
+    slope: &'a [f64],
+}
+
+impl Gates {
+    fn new(map: &Map, cfg: &TrackerConfig) -> Gates {
         let places = map.places();
         let n = places.len();
-        let mut lengths = vec![0.0; n * n];
-        let mut shapes = vec![Trapezoid::default(); n * n];
+        let mut g = Gates {
+            length: vec![0.0; n * n],
+            half: vec![f64::NEG_INFINITY; n * n],
+            slope: vec![0.0; n * n],
+            bound: vec![0.0; n],
+        };
         for i in 0..n {
             for j in 0..n {
                 let l = map.path_length(i, j);
@@ -212,26 +255,70 @@ impl Tracker {
                 } else {
                     (l - extent_radius(places[i].extent) - extent_radius(places[j].extent)).max(0.0)
                 };
-                lengths[i * n + j] = l;
-                let lf = if l.is_finite() { l } else { 0.0 };
-                shapes[i * n + j] = Trapezoid {
-                    core: 2.0 * (cfg.tolerance + cfg.tolerance_rel * lf),
-                    slope: cfg.slope + cfg.slope_rel * lf,
-                    height: 1.0,
-                    bias: 0.0,
-                    period: None,
+                if !l.is_finite() {
+                    continue;
+                }
+                let k = i * n + j;
+                let core = 2.0 * (cfg.tolerance + cfg.tolerance_rel * l);
+                let slope = cfg.slope + cfg.slope_rel * l;
+                g.length[k] = l;
+                g.half[k] = 0.5 * core;
+                g.slope[k] = if slope > 0.0 { slope } else { 0.0 };
+                let far = (l + g.half[k] + g.slope[k]) * (1.0 + 1e-6) + 1e-6;
+                // Not `f64::max`: a NaN must stick, so that the row is never skipped.
+                g.bound[i] = if far > g.bound[i] || far.is_nan() {
+                    far
+                } else {
+                    g.bound[i]
                 };
             }
         }
+        g
+    }
+
+    /// The rows, in order; `n` must be the number of places (rows of `n` pairs).
+    fn rows(&self, n: usize) -> impl Iterator<Item = GateRow<'_>> {
+        self.length
+            .chunks_exact(n)
+            .zip(self.half.chunks_exact(n))
+            .zip(self.slope.chunks_exact(n))
+            .map(|((length, half), slope)| GateRow {
+                length,
+                half,
+                slope,
+            })
+    }
+}
+
+impl GateRow<'_> {
+    /// `out[j] = R_ij` at distance `s` from anchor `i`.
+    #[inline]
+    fn fill(&self, s: f64, out: &mut [f64]) {
+        let pairs = self.length.iter().zip(self.half).zip(self.slope);
+        for (o, ((&l, &half), &slope)) in out.iter_mut().zip(pairs) {
+            let d = (s - l).abs();
+            let f = (1.0 - (d - half) / slope).max(0.0);
+            *o = if d <= half { 1.0 } else { f };
+        }
+    }
+}
+
+impl Tracker {
+    /// A tracker over `map`, deciding with `params` (the rule file's threshold and margin).
+    pub fn new(map: &Map, params: DecisionParams, cfg: TrackerConfig) -> Tracker {
+        let n = map.places().len();
         let mut t = Tracker {
             cfg,
             params,
             n,
-            lengths,
-            shapes,
+            gates: Gates::new(map, &cfg),
             anchor: vec![1.0; n],
             since: vec![0.0; n],
             pred: vec![1.0; n],
+            reach: vec![0.0; n * n],
+            live: vec![true; n],
+            evid: vec![0.0; n],
+            agree: vec![0.0; n],
             dist: PlaceDistribution::new(n),
             decision: Decision::Disoriented(Disoriented::NoPlaces),
         };
@@ -260,17 +347,6 @@ impl Tracker {
         &self.cfg
     }
 
-    /// `R_ij` at the current distance from anchor `i`.
-    #[inline]
-    fn reach(&self, i: usize, j: usize) -> f64 {
-        let k = i * self.n + j;
-        let l = self.lengths[k];
-        if !l.is_finite() {
-            return 0.0;
-        }
-        self.shapes[k].degree(self.since[i], l)
-    }
-
     /// One frame: carries the belief by the odometry increment, intersects it with `evidence`
     /// (the engine's distribution for this frame) and decides. Allocates nothing.
     pub fn step(&mut self, evidence: &PlaceDistribution, odometry: Odometry) -> Decision {
@@ -284,25 +360,39 @@ impl Tracker {
         }
         let ev =
             |v: &[f64], j: usize, missing: f64| clamp_degree(v.get(j).copied().unwrap_or(missing));
+        for (j, e) in self.evid.iter_mut().enumerate() {
+            *e = ev(&evidence.possibility, j, 1.0);
+        }
 
-        // Blur: carry each anchor along the graph.
-        for j in 0..n {
-            let mut p = 0.0f64;
-            for i in 0..n {
-                // min(anchor, reach) cannot exceed the anchor, so an anchor at or below `p`
-                // cannot raise it: skipping its (costly) reach is exact, and most anchors are low.
-                if self.anchor[i] > p || self.anchor[i].is_nan() {
-                    p = p.max(self.anchor[i].min(self.reach(i, j)));
+        // Blur: carry each anchor along the graph. Every `R_ij` is computed (the revision needs
+        // them too), branch-free over a row so that the compiler can vectorise it; max and min
+        // select exactly, so the order of the terms does not change `pred`.
+        // An anchor farther than every path from it (`s_i` past its row's bound; common, as
+        // `s_i` grows until the place is seen again) has a row of zeros, which raises no `pred`
+        // and no `compat`: its row is skipped here and in the revision.
+        self.pred.fill(0.0);
+        if n > 0 {
+            let rows = self.reach.chunks_exact_mut(n).zip(self.gates.rows(n));
+            let anchors = self.anchor.iter().zip(&self.since).zip(&self.gates.bound);
+            for (((row, gate), live), ((&a, &s), &bound)) in
+                rows.zip(self.live.iter_mut()).zip(anchors)
+            {
+                *live = s <= bound || bound.is_nan();
+                if !*live {
+                    continue;
+                }
+                gate.fill(s, row);
+                for (p, &r) in self.pred.iter_mut().zip(row.iter()) {
+                    *p = p.max(a.min(r));
                 }
             }
-            self.pred[j] = p;
         }
 
         // Intersect with the evidence.
         let mut h = 0.0f64;
         let mut max_support = 0.0f64;
         for j in 0..n {
-            let e = ev(&evidence.possibility, j, 1.0);
+            let e = self.evid[j];
             let a = ev(&evidence.support, j, 0.0);
             max_support = max_support.max(a);
             let c = t.apply(self.pred[j].max(b), e);
@@ -318,7 +408,7 @@ impl Tracker {
             // little their intersection leaves, so that the next frames can tell which was right.
             h = 0.0;
             for j in 0..n {
-                let c = self.pred[j].max(ev(&evidence.possibility, j, 1.0));
+                let c = self.pred[j].max(self.evid[j]);
                 self.dist.possibility_raw[j] = c;
                 h = h.max(c);
             }
@@ -328,16 +418,24 @@ impl Tracker {
 
         // Revise the anchors: keep those the frame agrees with, re-anchor supported places.
         let between = 1.0 - max_support;
-        for i in 0..n {
-            let mut compat = between;
-            for j in 0..n {
-                let agree = self.dist.possibility[j].min(ev(&evidence.possibility, j, 1.0));
-                // As in the blur: a term bounded by `agree <= compat` cannot raise `compat`.
-                if agree > compat || agree.is_nan() {
-                    compat = compat.max(self.reach(i, j).min(agree));
+        for (g, (&p, &e)) in self
+            .agree
+            .iter_mut()
+            .zip(self.dist.possibility.iter().zip(&self.evid))
+        {
+            *g = p.min(e);
+        }
+        if n > 0 {
+            let rows = self.reach.chunks_exact(n).zip(&self.live);
+            for (m, (row, &live)) in self.anchor.iter_mut().zip(rows) {
+                let mut compat = between;
+                if live {
+                    for (&r, &g) in row.iter().zip(&self.agree) {
+                        compat = compat.max(r.min(g));
+                    }
                 }
+                *m = t.apply(*m, compat.max(b));
             }
-            self.anchor[i] = t.apply(self.anchor[i], compat.max(b));
         }
         for j in 0..n {
             if ev(&evidence.support, j, 0.0) >= self.cfg.anchor_support {

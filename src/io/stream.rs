@@ -24,6 +24,14 @@
 //! [`MAX_LINE`]. A skipped record contributes nothing — not even its odometry. Blank lines are
 //! ignored (they are not records).
 //!
+//! # Reading ahead
+//! [`read_records`] hands every record, in stream order, to a consumer. With
+//! [`Threads::ReadAhead`] the reading and parsing run on a second thread, a few batches of frames
+//! ahead of the consumer: the batches are allocated once and passed back and forth through two
+//! bounded channels, so memory stays flat, and the consumer sees exactly the sequence it would
+//! see reading itself ([`Threads::One`]) — the same frames, rejections and line numbers, and a
+//! read error only after every record before it.
+//!
 //! Depends on `engine::frame` (the target), `io::record` (the wire types), `map` (truth place
 //! names) and serde/serde_json; nothing here does I/O beyond reading the given `BufRead`.
 
@@ -37,6 +45,7 @@ use serde::de::{self, DeserializeSeed, IgnoredAny, MapAccess, SeqAccess, Visitor
 use serde::Deserialize;
 use std::fmt;
 use std::io::{BufRead, Read};
+use std::sync::mpsc;
 
 /// Longest line accepted, in bytes; a longer line is rejected (and skipped) without being held in
 /// memory, so that memory stays flat on any input.
@@ -590,6 +599,151 @@ impl<R: BufRead> StreamReader<R> {
             }
         }
     }
+}
+
+/// Where [`read_records`] reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Threads {
+    /// On the consumer's thread, one record at a time.
+    One,
+    /// On a second thread, in batches, ahead of the consumer.
+    ReadAhead,
+}
+
+impl Threads {
+    /// Reading ahead when the machine has a second core to read on, else one thread.
+    pub fn available() -> Threads {
+        match std::thread::available_parallelism() {
+            Ok(n) if n.get() > 1 => Threads::ReadAhead,
+            _ => Threads::One,
+        }
+    }
+}
+
+/// One record as [`read_records`] hands it over.
+#[derive(Debug)]
+pub enum Record<'a> {
+    /// A frame and its meta data.
+    Frame(&'a Frame, &'a FrameMeta),
+    /// A rejected record.
+    Rejected(LineError),
+}
+
+/// Frames per batch handed between the threads: enough that the channel's cost per frame is
+/// small, few enough that a batch of the largest frames stays far below a megabyte.
+const BATCH: usize = 256;
+
+/// Batches in existence at once: one being read, one being consumed, and two queued so that
+/// neither thread waits on a momentary stall of the other.
+const IN_FLIGHT: usize = 4;
+
+/// Records read ahead: frames in the order read, and the sequence of frames and rejections.
+struct Batch {
+    frames: Vec<Frame>,
+    metas: Vec<FrameMeta>,
+    /// `None` for the next frame of `frames`, `Some` for a rejection, in stream order.
+    order: Vec<Option<LineError>>,
+    /// Set on the last batch: the end of the stream, or the read error that ended it.
+    end: Option<std::io::Result<()>>,
+}
+
+/// Reads every record of `reader` and hands it to `consume` in stream order, stopping at the
+/// end of the stream, at the first error `consume` returns, or at a read error (turned into the
+/// caller's error by `read_error`, after every record before it was consumed). `progress` is
+/// called after each record with the reader (for a progress bar), on the reading thread.
+/// `slots` is the frame size ([`Schema::slots`]).
+pub fn read_records<R, E>(
+    mut reader: StreamReader<R>,
+    threads: Threads,
+    mut progress: impl FnMut(&StreamReader<R>) + Send,
+    read_error: impl FnOnce(std::io::Error) -> E,
+    mut consume: impl FnMut(Record<'_>) -> Result<(), E>,
+) -> Result<(), E>
+where
+    R: BufRead + Send,
+{
+    let slots = reader.schema().slots();
+    if threads == Threads::One {
+        let mut frame = Frame::new(slots);
+        let mut meta = FrameMeta::default();
+        loop {
+            let got = match reader.next_frame(&mut frame, &mut meta) {
+                Ok(got) => got,
+                Err(e) => return Err(read_error(e)),
+            };
+            progress(&reader);
+            match got {
+                ReadOutcome::End => return Ok(()),
+                ReadOutcome::Frame => consume(Record::Frame(&frame, &meta))?,
+                ReadOutcome::Rejected(e) => consume(Record::Rejected(e))?,
+            }
+        }
+    }
+    let (full_tx, full_rx) = mpsc::sync_channel::<Batch>(IN_FLIGHT);
+    let (free_tx, free_rx) = mpsc::sync_channel::<Batch>(IN_FLIGHT);
+    for _ in 0..IN_FLIGHT {
+        let batch = Batch {
+            frames: (0..BATCH).map(|_| Frame::new(slots)).collect(),
+            metas: vec![FrameMeta::default(); BATCH],
+            order: Vec::with_capacity(BATCH),
+            end: None,
+        };
+        // Cannot fail: the receiver is alive and the channel holds IN_FLIGHT.
+        let _ = free_tx.send(batch);
+    }
+    std::thread::scope(|scope| {
+        scope.spawn(move || {
+            // Ends when the stream does, or when the consumer has gone (its ends are dropped).
+            while let Ok(mut batch) = free_rx.recv() {
+                batch.order.clear();
+                let mut used = 0;
+                // Rejections count towards the batch too, so that a stream of nothing but bad
+                // records still moves in bounded batches.
+                while batch.order.len() < BATCH && batch.end.is_none() {
+                    match reader.next_frame(&mut batch.frames[used], &mut batch.metas[used]) {
+                        Ok(ReadOutcome::Frame) => {
+                            batch.order.push(None);
+                            used += 1;
+                        }
+                        Ok(ReadOutcome::Rejected(e)) => batch.order.push(Some(e)),
+                        Ok(ReadOutcome::End) => batch.end = Some(Ok(())),
+                        Err(e) => batch.end = Some(Err(e)),
+                    }
+                    progress(&reader);
+                }
+                let last = batch.end.is_some();
+                if full_tx.send(batch).is_err() || last {
+                    return;
+                }
+            }
+        });
+        // The consumer: owns `full_rx` and `free_tx`, dropped on return so that the reader stops.
+        let (full_rx, free_tx) = (full_rx, free_tx);
+        while let Ok(mut batch) = full_rx.recv() {
+            let mut frames = batch.frames.iter().zip(&batch.metas);
+            for entry in batch.order.drain(..) {
+                match entry {
+                    Some(e) => consume(Record::Rejected(e))?,
+                    None => {
+                        // `order` has exactly as many `None`s as frames were filled.
+                        if let Some((frame, meta)) = frames.next() {
+                            consume(Record::Frame(frame, meta))?;
+                        }
+                    }
+                }
+            }
+            match batch.end.take() {
+                Some(Ok(())) => return Ok(()),
+                Some(Err(e)) => return Err(read_error(e)),
+                None => {
+                    let _ = free_tx.send(batch);
+                }
+            }
+        }
+        // The reader thread ended without an end marker: it can only have panicked, which
+        // the scope re-raises; there is nothing more to consume.
+        Ok(())
+    })
 }
 
 impl LineParser {
