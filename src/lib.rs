@@ -34,6 +34,7 @@
 
 #![warn(missing_docs)]
 
+pub mod baseline;
 pub mod engine;
 pub mod grid;
 pub mod io;

@@ -1,0 +1,199 @@
+//! The baselines (particle filter with 500 and 2000 particles, Fuzzy R-MCL) and, for reference,
+//! the Fuzzy Position Grid on MRCLAM dataset 7: prints a markdown table (ATE against Vicon from
+//! the first fix, time to first fix, kidnap recovery, ms per frame), one row per robot and method.
+//!
+//! Data: `$LPLACE_DATA/mrclam-dataset7` or `../shared/data/mrclam-dataset7` relative to the
+//! crate root. Configurations: `config/pf.ron`, `config/rmcl.ron`, `config/grid-mrclam.ron`.
+//! Optional argument: the robots to run (`1`, `1-5`; default 1-5). Seed 1 for every run.
+//!
+//! `cargo run --release --example baselines_mrclam [1-5]`
+
+use lplace::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
+use lplace::grid::run::GridLocalizer;
+use lplace::grid::{GridConfig, Landmark, LandmarkTable};
+use lplace::io::mrclam::{self, MergeOptions, MetricFrame};
+use lplace::localize::{drive, Kidnap, Localizer, Recovery, RunOptions, RunReport};
+use std::fs::File;
+use std::io::BufReader;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+type Res<T> = Result<T, Box<dyn std::error::Error>>;
+
+fn data_dir() -> PathBuf {
+    match std::env::var_os("LPLACE_DATA") {
+        Some(d) => PathBuf::from(d).join("mrclam-dataset7"),
+        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mrclam-dataset7"),
+    }
+}
+
+fn open(dir: &Path, name: &str) -> Res<BufReader<File>> {
+    Ok(BufReader::new(File::open(dir.join(name))?))
+}
+
+fn load(dir: &Path, robot: u32) -> Res<(LandmarkTable, Vec<MetricFrame>)> {
+    let codes = mrclam::read_barcodes(open(dir, "Barcodes.dat")?)?;
+    let marks = mrclam::read_landmarks(open(dir, "Landmark_Groundtruth.dat")?)?;
+    let table = LandmarkTable::new(
+        marks
+            .iter()
+            .map(|m| Landmark {
+                id: m.subject,
+                x: m.x as f32,
+                y: m.y as f32,
+            })
+            .collect(),
+    )?;
+    let odo = mrclam::read_odometry(open(dir, &format!("Robot{robot}_Odometry.dat"))?)?;
+    let meas =
+        mrclam::read_measurements(open(dir, &format!("Robot{robot}_Measurement.dat"))?, &codes)?;
+    let truth = mrclam::read_groundtruth(open(dir, &format!("Robot{robot}_Groundtruth.dat"))?)?;
+    Ok((
+        table,
+        mrclam::merge(&odo, &meas.rows, &truth, &MergeOptions::default()),
+    ))
+}
+
+fn config(name: &str) -> Res<String> {
+    Ok(std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("config")
+            .join(name),
+    )?)
+}
+
+/// Runs a fresh localizer plain and kidnapped; returns both reports and ms per frame (plain).
+fn both<L: Localizer>(
+    make: &dyn Fn() -> Res<L>,
+    table: &LandmarkTable,
+    frames: &[MetricFrame],
+) -> Res<(RunReport, RunReport, f64)> {
+    let n = frames.len().max(1);
+    let t_mid = frames.get(n / 2).map_or(0.0, |f| f.t);
+    let mut loc = make()?;
+    let start = Instant::now();
+    let plain = drive(
+        &mut loc,
+        table,
+        frames.iter().cloned(),
+        &RunOptions::default(),
+    );
+    let ms = start.elapsed().as_secs_f64() * 1e3 / n as f64;
+    let kid = RunOptions {
+        kidnap: Some(Kidnap {
+            time: t_mid,
+            forward: 0.0,
+            lateral: 2.0,
+            turn: 1.5,
+        }),
+        ..RunOptions::default()
+    };
+    let mut loc = make()?;
+    let kidnapped = drive(&mut loc, table, frames.iter().cloned(), &kid);
+    Ok((plain, kidnapped, ms))
+}
+
+fn main() -> Res<()> {
+    let dir = data_dir();
+    if !dir.join("Barcodes.dat").exists() {
+        println!(
+            "MRCLAM dataset 7 not found at {} — set LPLACE_DATA; skipping.",
+            dir.display()
+        );
+        return Ok(());
+    }
+    let robots: Vec<u32> = match std::env::args().nth(1).as_deref() {
+        None => (1..=5).collect(),
+        Some(s) => match s.split_once('-') {
+            Some((a, b)) => (a.parse()?..=b.parse()?).collect(),
+            None => vec![s.parse()?],
+        },
+    };
+    let pf = PfConfig::from_ron(&config("pf.ron")?)?;
+    let rm = RmclConfig::from_ron(&config("rmcl.ron")?)?;
+    let grid = GridConfig::from_ron(&config("grid-mrclam.ron")?)?;
+    println!("| robot | method | first fix [s] | ATE RMSE [m] | median [m] | max [m] | ATE all [m] | kidnap recovery [s] | ms/frame | notes |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for robot in robots {
+        let (table, frames) = load(&dir, robot)?;
+        let bounds = table.bounds(grid.margin).ok_or("no landmarks")?;
+        let f = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{v:.3}"));
+        let row = |name: &str, (p, k, ms): (RunReport, RunReport, f64), notes: String| {
+            let rec = match k.recovery {
+                Some(Recovery::Recovered { after }) => format!("{after:.1}"),
+                _ => "not recovered".into(),
+            };
+            println!(
+                "| {robot} | {name} | {} | {} | {} | {} | {} | {rec} | {ms:.2} | {notes} |",
+                f(p.first_fix.map(|x| x.after)),
+                f(p.ate.map(|a| a.rmse)),
+                f(p.ate.map(|a| a.median)),
+                f(p.ate.map(|a| a.max)),
+                f(p.ate_all.map(|a| a.rmse)),
+            );
+        };
+        for n in [500, 2000] {
+            let cfg = PfConfig {
+                particles: n,
+                ..pf.clone()
+            };
+            let r = both(
+                &|| Ok(ParticleFilter::new(&table, &cfg, bounds, 1)?),
+                &table,
+                &frames,
+            )?;
+            row(&format!("PF {n}"), r, String::new());
+        }
+        let fallbacks = std::cell::Cell::new((0, 0));
+        let r = both(
+            &|| {
+                let m = FuzzyRmcl::new(&table, &rm, &grid, bounds, 1)?;
+                Ok(Counting(m, &fallbacks))
+            },
+            &table,
+            &frames,
+        )?;
+        let (fb, sampled) = fallbacks.get();
+        row(
+            "Fuzzy R-MCL",
+            r,
+            format!("kidnap run: {fb} fallbacks, {sampled} sampled frames"),
+        );
+        let gcfg = GridConfig {
+            bounds: Some(bounds),
+            ..grid.clone()
+        };
+        let r = both(&|| Ok(GridLocalizer::new(&table, &gcfg)?), &table, &frames)?;
+        row("grid (reference)", r, String::new());
+    }
+    Ok(())
+}
+
+/// R-MCL that writes its fallback counts out as it goes (the driver consumes the localizer
+/// only by `&mut`, but `both` builds it inside).
+struct Counting<'a>(FuzzyRmcl, &'a std::cell::Cell<(usize, usize)>);
+
+impl Localizer for Counting<'_> {
+    type Error = lplace::baseline::BaselineError;
+    fn predict(&mut self, m: &lplace::grid::Motion) -> Result<(), Self::Error> {
+        self.0.predict(m)
+    }
+    fn observe(
+        &mut self,
+        t: &LandmarkTable,
+        o: &lplace::grid::Observation,
+    ) -> Result<(), Self::Error> {
+        self.0.observe(t, o)
+    }
+    fn estimate(&mut self) -> lplace::localize::PoseEstimate {
+        let e = self.0.estimate();
+        self.1.set((self.0.fallbacks(), self.0.sampled()));
+        e
+    }
+    fn fix_reliability(&self) -> f32 {
+        self.0.fix_reliability()
+    }
+    fn reobserve_interval(&self) -> f64 {
+        self.0.reobserve_interval()
+    }
+}

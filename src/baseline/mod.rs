@@ -1,0 +1,192 @@
+//! Baselines the Fuzzy Position Grid is compared with: a Monte Carlo particle filter after
+//! paper 004 ([`pf`]) and Fuzzy Reverse Monte Carlo Localization after paper 001 ([`rmcl`]).
+//! Both are [`crate::localize::Localizer`]s, so `crate::localize::drive` steps, kidnaps and
+//! scores them exactly as it does the grid.
+//!
+//! This module owns the error type shared by the two methods and the input checks every
+//! [`crate::localize::Localizer`] must make (a rejected input leaves the belief unchanged). It
+//! may depend on `grid` (reading, motion and landmark types; the grid stage of R-MCL),
+//! `localize` (the trait) and `sim::rng` (the seeded generator); it never does I/O.
+//!
+//! # Complexity
+//!
+//! See [`pf`] (O(particles) per reading) and [`rmcl`] (O(cells) per frame).
+//!
+//! # Example
+//!
+//! ```
+//! use lplace::baseline::{ParticleFilter, PfConfig};
+//! use lplace::grid::{Landmark, LandmarkTable, Motion};
+//! use lplace::localize::Localizer;
+//! let table = LandmarkTable::new(vec![Landmark { id: 1, x: 0.0, y: 0.0 }]).unwrap();
+//! let mut pf = ParticleFilter::new(&table, &PfConfig::default(), [-2.0, -2.0, 2.0, 2.0], 7)?;
+//! // A NaN motion is rejected, not absorbed.
+//! let bad = Motion { forward: f32::NAN, lateral: 0.0, turn: 0.0, dt: 0.1 };
+//! assert!(pf.predict(&bad).is_err());
+//! # Ok::<(), lplace::baseline::BaselineError>(())
+//! ```
+
+pub mod pf;
+pub mod rmcl;
+
+pub use pf::{ParticleFilter, PfConfig};
+pub use rmcl::{FuzzyRmcl, RmclConfig};
+
+use crate::grid::{GridError, LandmarkTable, Motion, Observation};
+
+/// Everything a baseline rejects. Variants carry the offending data; nothing here panics.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BaselineError {
+    /// A configuration value is out of range.
+    #[error("bad baseline configuration: `{field}` {reason}")]
+    BadConfig {
+        /// Name of the field.
+        field: &'static str,
+        /// What is wrong with it.
+        reason: &'static str,
+    },
+    /// The RON text of a configuration does not parse.
+    #[error("baseline configuration, line {line} column {column}: {message}")]
+    Ron {
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// The parser's message.
+        message: String,
+    },
+    /// The extent is not `x_min < x_max`, `y_min < y_max`, all finite.
+    #[error("bad bounds {0:?}: need finite x_min < x_max, y_min < y_max")]
+    BadBounds([f32; 4]),
+    /// A reading value is NaN or infinite.
+    #[error("non-finite {what} in observation of landmark {landmark}: {value}")]
+    NonFinite {
+        /// `"range"` or `"bearing"`.
+        what: &'static str,
+        /// Landmark id.
+        landmark: u32,
+        /// The rejected value.
+        value: f32,
+    },
+    /// A range reading is negative.
+    #[error("negative range {range} to landmark {landmark}")]
+    NegativeRange {
+        /// Landmark id.
+        landmark: u32,
+        /// The rejected value.
+        range: f32,
+    },
+    /// The observed landmark is not in the table.
+    #[error("unknown landmark {0}")]
+    UnknownLandmark(u32),
+    /// A motion increment is non-finite or has a negative duration.
+    #[error("bad motion increment ({forward}, {lateral}, {turn}, dt {dt})")]
+    BadMotion {
+        /// Forward displacement.
+        forward: f32,
+        /// Lateral displacement.
+        lateral: f32,
+        /// Rotation.
+        turn: f32,
+        /// Elapsed time.
+        dt: f32,
+    },
+    /// The grid stage (R-MCL) rejected something.
+    #[error("grid stage: {0}")]
+    Grid(#[from] GridError),
+}
+
+/// Checks bounds as [`crate::grid::FuzzyGrid::new`] expects them.
+pub(crate) fn check_bounds(b: [f32; 4]) -> Result<(), BaselineError> {
+    if b.iter().any(|v| !v.is_finite()) || b[2] <= b[0] || b[3] <= b[1] {
+        return Err(BaselineError::BadBounds(b));
+    }
+    Ok(())
+}
+
+/// Checks a motion increment: finite, `dt ≥ 0`.
+pub(crate) fn check_motion(m: &Motion) -> Result<(), BaselineError> {
+    let ok = [m.forward, m.lateral, m.turn, m.dt]
+        .iter()
+        .all(|v| v.is_finite())
+        && m.dt >= 0.0;
+    if ok {
+        Ok(())
+    } else {
+        Err(BaselineError::BadMotion {
+            forward: m.forward,
+            lateral: m.lateral,
+            turn: m.turn,
+            dt: m.dt,
+        })
+    }
+}
+
+/// A checked reading: landmark position and the finite, non-negative values.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Reading {
+    pub lx: f64,
+    pub ly: f64,
+    pub range: Option<f64>,
+    pub bearing: Option<f64>,
+}
+
+/// Looks the landmark up and checks the values of an observation.
+pub(crate) fn check_observation(
+    table: &LandmarkTable,
+    obs: &Observation,
+) -> Result<Reading, BaselineError> {
+    let m = table
+        .get(obs.landmark)
+        .ok_or(BaselineError::UnknownLandmark(obs.landmark))?;
+    if let Some(r) = obs.range {
+        if !r.is_finite() {
+            return Err(BaselineError::NonFinite {
+                what: "range",
+                landmark: obs.landmark,
+                value: r,
+            });
+        }
+        if r < 0.0 {
+            return Err(BaselineError::NegativeRange {
+                landmark: obs.landmark,
+                range: r,
+            });
+        }
+    }
+    if let Some(b) = obs.bearing {
+        if !b.is_finite() {
+            return Err(BaselineError::NonFinite {
+                what: "bearing",
+                landmark: obs.landmark,
+                value: b,
+            });
+        }
+    }
+    Ok(Reading {
+        lx: m.x as f64,
+        ly: m.y as f64,
+        range: obs.range.map(f64::from),
+        bearing: obs.bearing.map(f64::from),
+    })
+}
+
+/// Maps an `ron` error onto [`BaselineError::Ron`].
+pub(crate) fn ron_error(e: ron::error::SpannedError) -> BaselineError {
+    BaselineError::Ron {
+        line: e.position.line,
+        column: e.position.col,
+        message: e.code.to_string(),
+    }
+}
+
+/// Wraps an angle into (−π, π] in f64.
+pub(crate) fn wrap(a: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let r = a.rem_euclid(TAU);
+    if r > PI {
+        r - TAU
+    } else {
+        r
+    }
+}
