@@ -21,6 +21,7 @@ use super::grid::{
     bad, kidnap, load_frames, read_config, write_trajectory, FrameInput, KidnapArgs,
 };
 use super::{CliError, EXIT_OK, EXIT_REJECTED};
+use crate::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
 use crate::grid::run::GridLocalizer;
 use crate::grid::{GridConfig, LandmarkTable};
 use crate::io::mrclam::MetricFrame;
@@ -149,7 +150,7 @@ pub struct CompareArgs {
         long,
         value_name = "LIST",
         value_delimiter = ',',
-        default_value = "fpg"
+        default_value = "fpg,pf:500,pf:2000,rmcl"
     )]
     pub methods: Vec<MethodSpec>,
     /// Grid parameters (RON, see `grid::GridConfig`); also the cell size and bounds of R-MCL's
@@ -185,10 +186,19 @@ pub struct CompareArgs {
     pub svg: Option<PathBuf>,
 }
 
+/// The bundled particle filter parameters (config/pf.ron), the default of `--pf-config`.
+const PF_CONFIG: &str = include_str!("../../config/pf.ron");
+/// The bundled Fuzzy R-MCL parameters (config/rmcl.ron), the default of `--rmcl-config`.
+const RMCL_CONFIG: &str = include_str!("../../config/rmcl.ron");
+
 /// Everything the methods are built from.
 struct Setup<'a> {
     table: &'a LandmarkTable,
     grid: &'a GridConfig,
+    pf: PfConfig,
+    rmcl: RmclConfig,
+    /// Where the sampling methods start spread: the grid's bounds, so all start alike.
+    bounds: [f32; 4],
     seed: u64,
 }
 
@@ -216,16 +226,27 @@ fn run_method(
     frames: &[MetricFrame],
     opts: &RunOptions,
 ) -> Result<(RunReport, Duration), CliError> {
-    let _ = s.seed;
-    match spec {
+    let why = |e: &dyn fmt::Display| bad(format!("{spec}: {e}"));
+    Ok(match spec {
         MethodSpec::Fpg => {
-            let mut g = GridLocalizer::new(s.table, s.grid).map_err(bad)?;
-            Ok(timed(&mut g, s.table, frames, opts))
+            let mut g = GridLocalizer::new(s.table, s.grid).map_err(|e| why(&e))?;
+            timed(&mut g, s.table, frames, opts)
         }
-        MethodSpec::Pf { .. } | MethodSpec::Rmcl => Err(bad(format!(
-            "method `{spec}` is not built into this version (only fpg)"
-        ))),
-    }
+        MethodSpec::Pf { particles } => {
+            let cfg = PfConfig {
+                particles: particles.unwrap_or(s.pf.particles),
+                ..s.pf.clone()
+            };
+            let mut pf =
+                ParticleFilter::new(s.table, &cfg, s.bounds, s.seed).map_err(|e| why(&e))?;
+            timed(&mut pf, s.table, frames, opts)
+        }
+        MethodSpec::Rmcl => {
+            let mut r =
+                FuzzyRmcl::new(s.table, &s.rmcl, s.grid, s.bounds, s.seed).map_err(|e| why(&e))?;
+            timed(&mut r, s.table, frames, opts)
+        }
+    })
 }
 
 /// One method's row of the main table.
@@ -283,9 +304,24 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
     grid.validate().map_err(bad)?;
     let input = load_frames(&args.input)?;
     let (table, frames) = (&input.table, &input.frames);
+    let bounds = match grid.bounds {
+        Some(b) => b,
+        None => table
+            .bounds(grid.margin)
+            .ok_or_else(|| bad("the map has no landmark with an id"))?,
+    };
     let setup = Setup {
         table,
         grid: &grid,
+        pf: match &args.pf_config {
+            None => PfConfig::from_ron(PF_CONFIG).map_err(bad)?,
+            Some(p) => read_config(p, PfConfig::from_ron)?,
+        },
+        rmcl: match &args.rmcl_config {
+            None => RmclConfig::from_ron(RMCL_CONFIG).map_err(bad)?,
+            Some(p) => read_config(p, RmclConfig::from_ron)?,
+        },
+        bounds,
         seed: args.seed,
     };
     let kidnapped = kidnap(&args.kidnap, frames)?;
