@@ -91,6 +91,11 @@ fn every_method_finds_a_robot_standing_among_three_landmarks() {
         assert!(fix <= 60.0, "{r}");
         assert!(r["time_per_step_us"].as_f64().unwrap() > 0.0, "{r}");
     }
+    // Every frame has readings, so each R-MCL estimate is either sampled or a fallback.
+    let rmcl = &rows[3]["rmcl"];
+    let made = rmcl["sampled"].as_u64().unwrap() + rmcl["fallbacks"].as_u64().unwrap();
+    assert_eq!(made, 120, "{rmcl}");
+    assert!(rows[0]["rmcl"].is_null());
     for (m, file) in METHODS
         .iter()
         .zip(["fpg.tum", "pf-500.tum", "pf-2000.tum", "rmcl.tum"])

@@ -202,6 +202,24 @@ struct Setup<'a> {
     seed: u64,
 }
 
+/// One method's run.
+struct Ran {
+    report: RunReport,
+    /// Wall time of the stepping alone.
+    took: Duration,
+    /// R-MCL only: how its estimates were made (why it may match `fpg`).
+    rmcl: Option<RmclCounts>,
+}
+
+/// How many of R-MCL's estimates came from its samples.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+struct RmclCounts {
+    /// Frames whose estimate is the mean of the best samples.
+    sampled: usize,
+    /// Frames with readings whose estimate fell back to the grid's.
+    fallbacks: usize,
+}
+
 /// Runs `loc` over `frames` through a fresh [`Drive`]; the duration is the wall time of the
 /// stepping alone (building the method and scoring are left out).
 fn timed<L: Localizer>(
@@ -209,14 +227,18 @@ fn timed<L: Localizer>(
     table: &LandmarkTable,
     frames: &[MetricFrame],
     opts: &RunOptions,
-) -> (RunReport, Duration) {
+) -> Ran {
     let mut d = Drive::new(table, *opts);
     let start = Instant::now();
     for f in frames {
         d.step(loc, f);
     }
     let took = start.elapsed();
-    (d.finish(), took)
+    Ran {
+        report: d.finish(),
+        took,
+        rmcl: None,
+    }
 }
 
 /// Builds the method `spec` afresh (seeded) and runs it: the one factory of methods.
@@ -225,7 +247,7 @@ fn run_method(
     s: &Setup<'_>,
     frames: &[MetricFrame],
     opts: &RunOptions,
-) -> Result<(RunReport, Duration), CliError> {
+) -> Result<Ran, CliError> {
     let why = |e: &dyn fmt::Display| bad(format!("{spec}: {e}"));
     Ok(match spec {
         MethodSpec::Fpg => {
@@ -244,7 +266,15 @@ fn run_method(
         MethodSpec::Rmcl => {
             let mut r =
                 FuzzyRmcl::new(s.table, &s.rmcl, s.grid, s.bounds, s.seed).map_err(|e| why(&e))?;
-            timed(&mut r, s.table, frames, opts)
+            // Run first: the counts are read after the run.
+            let ran = timed(&mut r, s.table, frames, opts);
+            Ran {
+                rmcl: Some(RmclCounts {
+                    sampled: r.sampled(),
+                    fallbacks: r.fallbacks(),
+                }),
+                ..ran
+            }
         }
     })
 }
@@ -267,6 +297,8 @@ struct MethodRow {
     thinned: usize,
     unknown: usize,
     rejected_readings: usize,
+    /// R-MCL: how its estimates were made.
+    rmcl: Option<RmclCounts>,
 }
 
 /// One method at one perturbation level.
@@ -330,7 +362,7 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
     }
     let mut rows = Vec::new();
     for &m in &args.methods {
-        let (report, took) = run_method(m, &setup, frames, &RunOptions::default())?;
+        let Ran { report, took, rmcl } = run_method(m, &setup, frames, &RunOptions::default())?;
         if let Some(dir) = &args.tum_dir {
             write_trajectory(&dir.join(m.file_name()), &report.frames)?;
         }
@@ -341,7 +373,7 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
                     kidnap: Some(k),
                     ..RunOptions::default()
                 };
-                match run_method(m, &setup, frames, &opts)?.0.recovery {
+                match run_method(m, &setup, frames, &opts)?.report.recovery {
                     Some(Recovery::Recovered { after }) => Some(after),
                     _ => None,
                 }
@@ -367,6 +399,7 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
             thinned: report.thinned,
             unknown: report.unknown + input.reader.stats.unknown,
             rejected_readings: report.rejected,
+            rmcl,
         });
     }
     let points = match args.sweep {
@@ -427,7 +460,7 @@ fn run_sweeps(
     for (sweep, p) in levels(kind) {
         let perturbed = perturb(frames, &p, args.seed).map_err(bad)?;
         for &m in &args.methods {
-            let (r, _) = run_method(m, s, &perturbed, &RunOptions::default())?;
+            let r = run_method(m, s, &perturbed, &RunOptions::default())?.report;
             points.push(SweepPoint {
                 method: m.to_string(),
                 sweep,
@@ -532,6 +565,15 @@ fn print_table(
             recovery,
             r.time_per_step_us
         )?;
+    }
+    for r in rows {
+        if let Some(c) = r.rmcl {
+            writeln!(
+                out,
+                "\n{}: estimate from samples in {} of {} frames, the grid's after a failed sampling in {}, the grid's (no readings) in the rest",
+                r.method, c.sampled, r.frames, c.fallbacks
+            )?;
+        }
     }
     if let Some(at) = rows.first().and_then(|r| r.kidnap_at) {
         writeln!(out, "\nkidnap injected {at:.1} s after the first frame")?;

@@ -35,13 +35,14 @@ const COLOURS: [&str; 8] = [
     "#0072b2", "#d55e00", "#009e73", "#cc79a7", "#e69f00", "#56b4e9", "#000000", "#f0e442",
 ];
 
-/// A "nice" upper bound for an axis from 0 to `max`: 1, 2 or 5 times a power of ten.
+/// A "nice" upper bound for an axis from 0 to `max`: 1, 2, 2.5 or 5 times a power of ten (so
+/// that the five tick steps are round numbers too).
 fn nice_ceiling(max: f64) -> f64 {
     if !(max.is_finite() && max > 0.0) {
         return 1.0;
     }
     let p = 10f64.powf(max.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
+    [1.0, 2.0, 2.5, 5.0, 10.0]
         .into_iter()
         .map(|m| m * p)
         .find(|v| *v >= max)
@@ -128,7 +129,7 @@ pub fn svg(panels: &[Panel], y_label: &str) -> String {
             let y = y_of(v);
             let _ = writeln!(
                 s,
-                r##"<line x1="{x0}" y1="{y}" x2="{}" y2="{y}" stroke="#ddd"/><text x="{}" y="{}" text-anchor="end" font-size="10">{}</text>"##,
+                r##"<line x1="{x0}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end" font-size="10">{}</text>"##,
                 x0 + pw,
                 x0 - 4.0,
                 y + 3.0,
@@ -138,7 +139,7 @@ pub fn svg(panels: &[Panel], y_label: &str) -> String {
         for (k, label) in panel.levels.iter().enumerate() {
             let _ = writeln!(
                 s,
-                r##"<text x="{}" y="{}" text-anchor="middle" font-size="10">{}</text>"##,
+                r##"<text x="{:.1}" y="{}" text-anchor="middle" font-size="10">{}</text>"##,
                 x_of(k),
                 top + ph + 16.0,
                 xml_escape(label)
@@ -186,12 +187,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn nice_ceiling_rounds_up_to_1_2_5() {
+    fn nice_ceiling_rounds_up_to_1_2_2half_5() {
         assert_eq!(nice_ceiling(0.0), 1.0);
         assert_eq!(nice_ceiling(f64::NAN), 1.0);
         assert!((nice_ceiling(0.28) - 0.5).abs() < 1e-12);
         assert!((nice_ceiling(1.2) - 2.0).abs() < 1e-12);
         assert!((nice_ceiling(2.0) - 2.0).abs() < 1e-12);
+        assert!((nice_ceiling(2.06) - 2.5).abs() < 1e-12);
         assert!((nice_ceiling(7.0) - 10.0).abs() < 1e-12);
     }
 
