@@ -263,6 +263,19 @@ fn bad_specs_and_flags_exit_2_with_a_message() {
         .assert()
         .code(2);
     lplace().arg("compare").assert().code(2);
+    // An output directory that cannot be made (under a file): exit 1, naming it.
+    let out = lplace()
+        .arg("compare")
+        .arg("--map")
+        .arg(&map)
+        .arg(&stream)
+        .args(["--methods", "fpg", "--tum-dir"])
+        .arg(stream.join("tum"))
+        .assert()
+        .code(1)
+        .get_output()
+        .clone();
+    assert!(String::from_utf8_lossy(&out.stderr).contains("s.jsonl"));
 }
 
 #[test]

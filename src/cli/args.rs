@@ -54,7 +54,11 @@ pub enum Command {
     /// Time per step is wall time (the method's whole run over the frames, divided by the
     /// frames), so it depends on the machine and its load. With --sweep, also paper 001's
     /// noisy- and sparse-data runs (seeded). Exit 0, 3 when some stream lines were malformed
-    /// (each reported on stderr), 2 for a bad method, flag, map or configuration.
+    /// (each reported on stderr), 2 for a bad method, flag, map or configuration, 1 when a
+    /// file cannot be read or written.
+    ///
+    /// Example: lplace compare --from-dir ../shared/data/mrclam-dataset7 --robot 1
+    /// --kidnap-at mid --tum-dir out --sweep both --svg sweep.svg
     Compare(super::compare::CompareArgs),
 }
 

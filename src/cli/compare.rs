@@ -18,7 +18,7 @@ use std::str::FromStr;
 use std::time::{Duration, Instant};
 
 use super::grid::{
-    bad, kidnap, load_frames, read_config, write_trajectory, FrameInput, KidnapArgs,
+    bad, kidnap, load_frames, output_error, read_config, write_trajectory, FrameInput, KidnapArgs,
 };
 use super::{CliError, EXIT_OK, EXIT_REJECTED};
 use crate::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
@@ -358,7 +358,7 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
     };
     let kidnapped = kidnap(&args.kidnap, frames)?;
     if let Some(dir) = &args.tum_dir {
-        std::fs::create_dir_all(dir)?;
+        std::fs::create_dir_all(dir).map_err(|e| output_error(dir, e))?;
     }
     let mut rows = Vec::new();
     for &m in &args.methods {
@@ -407,7 +407,7 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
         Some(kind) => run_sweeps(kind, args, &setup, frames)?,
     };
     if let Some(path) = &args.svg {
-        std::fs::write(path, plot(&args.methods, &points))?;
+        std::fs::write(path, plot(&args.methods, &points)).map_err(|e| output_error(path, e))?;
     }
     match args.format {
         Format::Table => print_table(out, &rows, &points)?,

@@ -8,6 +8,9 @@
 //! `landmark_range(NAME)` percepts are resolved by name. With no `--map`, the bundled
 //! `maps/mrclam.map` is used. Malformed stream lines are reported on stderr as STREAM:LINE and
 //! skipped (exit 3 at the end).
+//!
+//! The input half (`FrameInput`, `load_frames`), the kidnap flags, configuration reading and
+//! TUM writing are shared with `lplace compare`, so both commands read and write alike.
 
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
@@ -298,11 +301,19 @@ pub(super) fn write_trajectory(path: &Path, frames: &[FrameEstimate]) -> Result<
             yaw: f.pose.theta,
         })
         .collect();
-    let file = std::fs::File::create(path)?;
+    let file = std::fs::File::create(path).map_err(|e| output_error(path, e))?;
     let mut w = std::io::BufWriter::new(file);
-    write_tum(&mut w, &poses)?;
-    w.flush()?;
+    write_tum(&mut w, &poses).map_err(|e| output_error(path, e))?;
+    w.flush().map_err(|e| output_error(path, e))?;
     Ok(())
+}
+
+/// An output file's I/O error with the file named in the message (exit 1).
+pub(super) fn output_error(path: &Path, e: std::io::Error) -> CliError {
+    CliError::Write(std::io::Error::new(
+        e.kind(),
+        format!("{}: {e}", path.display()),
+    ))
 }
 
 fn print_scores(
