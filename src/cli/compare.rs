@@ -485,6 +485,26 @@ fn level_label(p: &SweepPoint) -> String {
     }
 }
 
+/// The points of one sweep (`noise` or `sparsity`) and its level labels in run order; `None`
+/// when that sweep was not run.
+fn one_sweep<'p>(
+    points: &'p [SweepPoint],
+    sweep: &str,
+) -> Option<(Vec<&'p SweepPoint>, Vec<String>)> {
+    let of: Vec<&SweepPoint> = points.iter().filter(|p| p.sweep == sweep).collect();
+    if of.is_empty() {
+        return None;
+    }
+    let mut labels: Vec<String> = Vec::new();
+    for p in &of {
+        let l = level_label(p);
+        if !labels.contains(&l) {
+            labels.push(l);
+        }
+    }
+    Some((of, labels))
+}
+
 /// A number with no trailing zeros (levels are short decimals).
 fn trim(v: f64) -> String {
     let t = format!("{v:.3}");
@@ -498,17 +518,9 @@ fn plot(methods: &[MethodSpec], points: &[SweepPoint]) -> String {
         ("noise", "added noise (σ range / σ bearing)"),
         ("sparsity", "readings kept"),
     ] {
-        let of: Vec<&SweepPoint> = points.iter().filter(|p| p.sweep == sweep).collect();
-        if of.is_empty() {
+        let Some((of, labels)) = one_sweep(points, sweep) else {
             continue;
-        }
-        let mut labels: Vec<String> = Vec::new();
-        for p in &of {
-            let l = level_label(p);
-            if !labels.contains(&l) {
-                labels.push(l);
-            }
-        }
+        };
         let series = methods
             .iter()
             .map(|m| {
@@ -589,17 +601,9 @@ fn print_table(
         ),
         ("sparsity", "ATE RMSE [m] from first fix vs readings kept"),
     ] {
-        let of: Vec<&SweepPoint> = points.iter().filter(|p| p.sweep == sweep).collect();
-        if of.is_empty() {
+        let Some((of, labels)) = one_sweep(points, sweep) else {
             continue;
-        }
-        let mut labels: Vec<String> = Vec::new();
-        for p in &of {
-            let l = level_label(p);
-            if !labels.contains(&l) {
-                labels.push(l);
-            }
-        }
+        };
         writeln!(out, "\n{title}\n")?;
         writeln!(out, "| method | {} |", labels.join(" | "))?;
         writeln!(out, "|---|{}", "---|".repeat(labels.len()))?;
