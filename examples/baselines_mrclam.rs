@@ -4,9 +4,10 @@
 //!
 //! Data: `$LPLACE_DATA/mrclam-dataset7` or `../shared/data/mrclam-dataset7` relative to the
 //! crate root. Configurations: `config/pf.ron`, `config/rmcl.ron`, `config/grid-mrclam.ron`.
-//! Optional argument: the robots to run (`1`, `1-5`; default 1-5). Seed 1 for every run.
+//! Optional arguments: the robots to run (`1`, `1-5`; default 1-5) and the seed of every run
+//! (default 1).
 //!
-//! `cargo run --release --example baselines_mrclam [1-5]`
+//! `cargo run --release --example baselines_mrclam [1-5] [seed]`
 
 use lplace::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
 use lplace::grid::run::GridLocalizer;
@@ -62,12 +63,13 @@ fn config(name: &str) -> Res<String> {
     )?)
 }
 
-/// Runs a fresh localizer plain and kidnapped; returns both reports and ms per frame (plain).
+/// Runs a fresh localizer plain and kidnapped; returns both reports, ms per frame (plain) and
+/// the kidnapped localizer.
 fn both<L: Localizer>(
     make: &dyn Fn() -> Res<L>,
     table: &LandmarkTable,
     frames: &[MetricFrame],
-) -> Res<(RunReport, RunReport, f64)> {
+) -> Res<(RunReport, RunReport, f64, L)> {
     let n = frames.len().max(1);
     let t_mid = frames.get(n / 2).map_or(0.0, |f| f.t);
     let mut loc = make()?;
@@ -90,7 +92,7 @@ fn both<L: Localizer>(
     };
     let mut loc = make()?;
     let kidnapped = drive(&mut loc, table, frames.iter().cloned(), &kid);
-    Ok((plain, kidnapped, ms))
+    Ok((plain, kidnapped, ms, loc))
 }
 
 fn main() -> Res<()> {
@@ -109,6 +111,10 @@ fn main() -> Res<()> {
             None => vec![s.parse()?],
         },
     };
+    let seed: u64 = match std::env::args().nth(2) {
+        Some(s) => s.parse()?,
+        None => 1,
+    };
     let pf = PfConfig::from_ron(&config("pf.ron")?)?;
     let rm = RmclConfig::from_ron(&config("rmcl.ron")?)?;
     let grid = GridConfig::from_ron(&config("grid-mrclam.ron")?)?;
@@ -118,7 +124,7 @@ fn main() -> Res<()> {
         let (table, frames) = load(&dir, robot)?;
         let bounds = table.bounds(grid.margin).ok_or("no landmarks")?;
         let f = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{v:.3}"));
-        let row = |name: &str, (p, k, ms): (RunReport, RunReport, f64), notes: String| {
+        let row = |name: &str, p: RunReport, k: RunReport, ms: f64, notes: String| {
             let rec = match k.recovery {
                 Some(Recovery::Recovered { after }) => format!("{after:.1}"),
                 _ => "not recovered".into(),
@@ -137,63 +143,30 @@ fn main() -> Res<()> {
                 particles: n,
                 ..pf.clone()
             };
-            let r = both(
-                &|| Ok(ParticleFilter::new(&table, &cfg, bounds, 1)?),
+            let (p, k, ms, _) = both(
+                &|| Ok(ParticleFilter::new(&table, &cfg, bounds, seed)?),
                 &table,
                 &frames,
             )?;
-            row(&format!("PF {n}"), r, String::new());
+            row(&format!("PF {n}"), p, k, ms, String::new());
         }
-        let fallbacks = std::cell::Cell::new((0, 0));
-        let r = both(
-            &|| {
-                let m = FuzzyRmcl::new(&table, &rm, &grid, bounds, 1)?;
-                Ok(Counting(m, &fallbacks))
-            },
+        let (p, k, ms, rmcl) = both(
+            &|| Ok(FuzzyRmcl::new(&table, &rm, &grid, bounds, seed)?),
             &table,
             &frames,
         )?;
-        let (fb, sampled) = fallbacks.get();
-        row(
-            "Fuzzy R-MCL",
-            r,
-            format!("kidnap run: {fb} fallbacks, {sampled} sampled frames"),
+        let notes = format!(
+            "kidnap run: {} fallbacks, {} sampled frames",
+            rmcl.fallbacks(),
+            rmcl.sampled()
         );
+        row("Fuzzy R-MCL", p, k, ms, notes);
         let gcfg = GridConfig {
             bounds: Some(bounds),
             ..grid.clone()
         };
-        let r = both(&|| Ok(GridLocalizer::new(&table, &gcfg)?), &table, &frames)?;
-        row("grid (reference)", r, String::new());
+        let (p, k, ms, _) = both(&|| Ok(GridLocalizer::new(&table, &gcfg)?), &table, &frames)?;
+        row("grid (reference)", p, k, ms, String::new());
     }
     Ok(())
-}
-
-/// R-MCL that writes its fallback counts out as it goes (the driver consumes the localizer
-/// only by `&mut`, but `both` builds it inside).
-struct Counting<'a>(FuzzyRmcl, &'a std::cell::Cell<(usize, usize)>);
-
-impl Localizer for Counting<'_> {
-    type Error = lplace::baseline::BaselineError;
-    fn predict(&mut self, m: &lplace::grid::Motion) -> Result<(), Self::Error> {
-        self.0.predict(m)
-    }
-    fn observe(
-        &mut self,
-        t: &LandmarkTable,
-        o: &lplace::grid::Observation,
-    ) -> Result<(), Self::Error> {
-        self.0.observe(t, o)
-    }
-    fn estimate(&mut self) -> lplace::localize::PoseEstimate {
-        let e = self.0.estimate();
-        self.1.set((self.0.fallbacks(), self.0.sampled()));
-        e
-    }
-    fn fix_reliability(&self) -> f32 {
-        self.0.fix_reliability()
-    }
-    fn reobserve_interval(&self) -> f64 {
-        self.0.reobserve_interval()
-    }
 }

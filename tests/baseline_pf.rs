@@ -298,6 +298,37 @@ fn recovers_from_a_kidnap_only_with_injection() {
 }
 
 #[test]
+fn injected_particles_agree_with_the_reading() {
+    // Every particle replaced (fixed fraction 1): each must lie on the measured range circle
+    // and face the landmark at the measured bearing, within 5 σ of the likelihood's noise.
+    let cfg = PfConfig {
+        particles: 300,
+        injection: Injection::Fixed { fraction: 1.0 },
+        ..PfConfig::default()
+    };
+    let t = table();
+    let mut pf = ParticleFilter::new(&t, &cfg, BOUNDS, 4).unwrap();
+    let (r, b) = (2.0f32, 0.4f32);
+    pf.observe(
+        &t,
+        &Observation {
+            landmark: 3,
+            range: Some(r),
+            bearing: Some(b),
+        },
+    )
+    .unwrap();
+    assert_eq!(pf.injected(), 300);
+    let sigma_r = cfg.range_sigma_abs + cfg.range_sigma_rel * r as f64; // 0.15 + 0.2 = 0.35
+    for (x, y, th, _) in pf.particles() {
+        let (dx, dy) = (6.0 - x, 6.0 - y); // landmark 3 at (6, 6)
+        assert!((dx.hypot(dy) - r as f64).abs() <= 5.0 * sigma_r);
+        let e = lplace::grid::wrap_pi((dy.atan2(dx) - th - b as f64) as f32);
+        assert!(e.abs() as f64 <= 5.0 * cfg.bearing_sigma, "{e}");
+    }
+}
+
+#[test]
 fn same_seed_same_run_other_seed_other_run() {
     let frames = baseline_sim::run(100, 2);
     let go = |seed| {
