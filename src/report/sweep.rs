@@ -35,6 +35,10 @@ const COLOURS: [&str; 8] = [
     "#0072b2", "#d55e00", "#009e73", "#cc79a7", "#e69f00", "#56b4e9", "#000000", "#f0e442",
 ];
 
+/// Dash patterns, in series order, so that lines that coincide (R-MCL on the grid's values)
+/// still show both colours.
+const DASHES: [&str; 4] = ["none", "7 4", "2 3", "10 3 2 3"];
+
 /// A "nice" upper bound for an axis from 0 to `max`: 1, 2, 2.5 or 5 times a power of ten (so
 /// that the five tick steps are round numbers too).
 fn nice_ceiling(max: f64) -> f64 {
@@ -92,9 +96,10 @@ pub fn svg(panels: &[Panel], y_label: &str) -> String {
         for (k, ser) in first.series.iter().enumerate() {
             let x = left + 110.0 * k as f64;
             let c = COLOURS[k % COLOURS.len()];
+            let d = DASHES[k % DASHES.len()];
             let _ = writeln!(
                 s,
-                r##"<line x1="{x}" y1="16" x2="{}" y2="16" stroke="{c}" stroke-width="2.5"/><text x="{}" y="20">{}</text>"##,
+                r##"<line x1="{x}" y1="16" x2="{}" y2="16" stroke="{c}" stroke-width="2.5" stroke-dasharray="{d}"/><text x="{}" y="20">{}</text>"##,
                 x + 24.0,
                 x + 30.0,
                 xml_escape(&ser.name)
@@ -147,6 +152,7 @@ pub fn svg(panels: &[Panel], y_label: &str) -> String {
         }
         for (si, ser) in panel.series.iter().enumerate() {
             let c = COLOURS[si % COLOURS.len()];
+            let d = DASHES[si % DASHES.len()];
             let pts: Vec<Option<(f64, f64)>> = ser
                 .values
                 .iter()
@@ -162,7 +168,7 @@ pub fn svg(panels: &[Panel], y_label: &str) -> String {
                         run.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
                     let _ = writeln!(
                         s,
-                        r##"<polyline points="{}" fill="none" stroke="{c}" stroke-width="2"/>"##,
+                        r##"<polyline points="{}" fill="none" stroke="{c}" stroke-width="2" stroke-dasharray="{d}"/>"##,
                         path.join(" ")
                     );
                 }
