@@ -48,6 +48,18 @@ pub enum Command {
     ///
     /// Exit 0, or 3 when some stream lines were malformed (each reported on stderr).
     Grid(super::grid::GridArgs),
+    /// Run several localizers (fpg, pf:N, rmcl) over the same landmark stream and print one
+    /// table: ATE RMSE / median / max, time to first fix, kidnap recovery, time per step.
+    ///
+    /// Time per step is wall time (the method's whole run over the frames, divided by the
+    /// frames), so it depends on the machine and its load. With --sweep, also paper 001's
+    /// noisy- and sparse-data runs (seeded). Exit 0, 3 when some stream lines were malformed
+    /// (each reported on stderr), 2 for a bad method, flag, map or configuration, 1 when a
+    /// file cannot be read or written.
+    ///
+    /// Example: lplace compare --from-dir ../shared/data/mrclam-dataset7 --robot 1
+    /// --kidnap-at mid --tum-dir out --sweep both --svg sweep.svg
+    Compare(super::compare::CompareArgs),
     /// Cooperative object localization (paper 002) on MRCLAM: one robot is the object the others
     /// see; fuse their object grids and compare with each robot's own estimate and with averages.
     ///

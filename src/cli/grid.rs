@@ -8,13 +8,18 @@
 //! `landmark_range(NAME)` percepts are resolved by name. With no `--map`, the bundled
 //! `maps/mrclam.map` is used. Malformed stream lines are reported on stderr as STREAM:LINE and
 //! skipped (exit 3 at the end).
+//!
+//! The input half (`FrameInput`, `load_frames`), the kidnap flags, configuration reading and
+//! TUM writing are shared with `lplace compare`, so both commands read and write alike.
 
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::grid::place::map_landmarks;
-use crate::grid::run::{run as run_grid, GridLocalizer, Kidnap, Recovery, RunOptions, RunReport};
+use crate::grid::run::{
+    run as run_grid, FrameEstimate, GridLocalizer, Kidnap, Recovery, RunOptions, RunReport,
+};
 use crate::grid::{FuzzyGrid, GridConfig, LandmarkTable};
 use crate::io::mrclam::MetricFrame;
 use crate::io::mrclam_stream::RecordReader;
@@ -28,9 +33,10 @@ use crate::syntax::parse_map;
 /// The MRCLAM map, bundled: the default of `grid` and `extract --from mrclam`.
 pub const MRCLAM_MAP: &str = include_str!("../../maps/mrclam.map");
 
-/// `lplace grid`.
+/// Where the landmark frames come from — a percept stream or MRCLAM files — and the map that
+/// names their landmarks. Shared by `grid` and `compare`, which read their input alike.
 #[derive(Debug, Clone, clap::Args)]
-pub struct GridArgs {
+pub struct FrameInput {
     /// Map (.map) whose landmarks (with ids) the stream's readings name. Default: the bundled
     /// maps/mrclam.map.
     #[arg(long, value_name = "MAP")]
@@ -50,6 +56,30 @@ pub struct GridArgs {
     /// MRCLAM robot number (1–5), with --from-dir.
     #[arg(long, value_name = "N")]
     pub robot: Option<u32>,
+    /// Ignore readings whose degree (reliability) is below this.
+    #[arg(long, value_name = "DEGREE", default_value_t = 0.0)]
+    pub min_degree: f64,
+}
+
+/// The optional injected kidnap, shared by `grid` and `compare`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct KidnapArgs {
+    /// Also run with a kidnap injected this many seconds after the first frame (or `mid`: at
+    /// the middle frame) and report the recovery time.
+    #[arg(long, value_name = "SECONDS|mid")]
+    pub kidnap_at: Option<String>,
+    /// The kidnap: forward and left metres and degrees turned, added to one odometry increment.
+    #[arg(long, value_name = "DX,DY,DTHETA", value_delimiter = ',', num_args = 3,
+          default_values_t = [0.0, 2.0, 1.5f64.to_degrees()])]
+    pub kidnap_by: Vec<f64>,
+}
+
+/// `lplace grid`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct GridArgs {
+    /// The input.
+    #[command(flatten)]
+    pub input: FrameInput,
     /// Grid parameters (RON, see `grid::GridConfig`), e.g. config/grid-mrclam.ron. Default:
     /// the built-in defaults.
     #[arg(long, value_name = "CONFIG")]
@@ -63,17 +93,9 @@ pub struct GridArgs {
     /// Write a few grid frames as SVG into this directory (created if needed).
     #[arg(long, value_name = "DIR")]
     pub svg: Option<PathBuf>,
-    /// Also run with a kidnap injected this many seconds after the first frame (or `mid`: at
-    /// the middle frame) and report the recovery time.
-    #[arg(long, value_name = "SECONDS|mid")]
-    pub kidnap_at: Option<String>,
-    /// The kidnap: forward and left metres and degrees turned, added to one odometry increment.
-    #[arg(long, value_name = "DX,DY,DTHETA", value_delimiter = ',', num_args = 3,
-          default_values_t = [0.0, 2.0, 1.5f64.to_degrees()])]
-    pub kidnap_by: Vec<f64>,
-    /// Ignore readings whose degree (reliability) is below this.
-    #[arg(long, value_name = "DEGREE", default_value_t = 0.0)]
-    pub min_degree: f64,
+    /// The kidnap.
+    #[command(flatten)]
+    pub kidnap: KidnapArgs,
     /// Print the scores as one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
@@ -94,7 +116,7 @@ pub(super) fn load_map(path: Option<&Path>) -> Result<Map, CliError> {
 }
 
 /// One problem reported on stderr, mapped to exit 2.
-fn bad(msg: impl std::fmt::Display) -> CliError {
+pub(super) fn bad(msg: impl std::fmt::Display) -> CliError {
     eprintln!("error: {msg}");
     CliError::Diagnostics { count: 1 }
 }
@@ -137,98 +159,161 @@ fn read_stream(path: &Path) -> Result<(Vec<FrameRecord>, usize), CliError> {
 /// [`CliError::Read`] when a file cannot be read, [`CliError::Diagnostics`] for a bad map,
 /// configuration or flag (printed first), [`CliError::Write`] when an output fails.
 pub fn run(args: &GridArgs, out: &mut impl Write) -> Result<u8, CliError> {
-    let map = load_map(args.map.as_deref())?;
-    let (table, names) = map_landmarks(&map).map_err(bad)?;
-    if table.landmarks().is_empty() {
-        return Err(bad("the map has no landmark with an id"));
-    }
+    let input = load_frames(&args.input)?;
     let mut cfg = match &args.config {
         None => GridConfig::default(),
-        Some(p) => {
-            let src = read_source(p)?;
-            GridConfig::from_ron(&src.text).map_err(|e| bad(format!("{}: {e}", p.display())))?
-        }
+        Some(p) => read_config(p, GridConfig::from_ron)?,
     };
     if let Some(c) = args.cell {
         cfg.cell_size = c;
     }
     cfg.validate().map_err(bad)?;
-    let (records, rejected) = match (&args.from_dir, &args.stream) {
-        (Some(dir), _) => {
-            let robot = args.robot.ok_or_else(|| bad("--from-dir needs --robot"))?;
-            let (recs, malformed) = super::extract::load_mrclam(dir, robot, &map)?;
-            (recs, malformed)
-        }
-        (None, Some(path)) => read_stream(path)?,
-        (None, None) => return Err(bad("no STREAM given")),
-    };
-    let mut reader = RecordReader::new(names);
-    reader.min_degree = args.min_degree;
-    let frames: Vec<MetricFrame> = records.iter().map(|r| reader.convert(r)).collect();
+    let (table, frames) = (&input.table, &input.frames);
     let report =
-        run_grid(&table, &cfg, frames.iter().cloned(), &RunOptions::default()).map_err(bad)?;
+        run_grid(table, &cfg, frames.iter().cloned(), &RunOptions::default()).map_err(bad)?;
     if let Some(path) = &args.tum {
-        let poses: Vec<TumPose> = report
-            .frames
-            .iter()
-            .map(|f| TumPose {
-                t: f.t,
-                x: f.pose.x,
-                y: f.pose.y,
-                yaw: f.pose.theta,
-            })
-            .collect();
-        let file = std::fs::File::create(path)?;
-        let mut w = std::io::BufWriter::new(file);
-        write_tum(&mut w, &poses)?;
-        w.flush()?;
+        write_trajectory(path, &report.frames)?;
     }
-    let kidnapped = match &args.kidnap_at {
+    let kidnapped = match kidnap(&args.kidnap, frames)? {
         None => None,
-        Some(spec) => {
-            let Some(first) = frames.first() else {
-                return Err(bad("--kidnap-at: the stream has no frames"));
-            };
-            let time = if spec == "mid" {
-                frames[frames.len() / 2].t
-            } else {
-                match spec.parse::<f64>() {
-                    Ok(s) if s.is_finite() && s >= 0.0 => first.t + s,
-                    _ => {
-                        return Err(bad(format!(
-                            "--kidnap-at: `{spec}` is not seconds or `mid`"
-                        )))
-                    }
-                }
-            };
-            let by = |k: usize| args.kidnap_by.get(k).copied().unwrap_or(0.0);
+        Some((after, k)) => {
             let opts = RunOptions {
-                kidnap: Some(Kidnap {
-                    time,
-                    forward: by(0),
-                    lateral: by(1),
-                    turn: by(2).to_radians(),
-                }),
+                kidnap: Some(k),
                 ..RunOptions::default()
             };
             Some((
-                time - first.t,
-                run_grid(&table, &cfg, frames.iter().cloned(), &opts).map_err(bad)?,
+                after,
+                run_grid(table, &cfg, frames.iter().cloned(), &opts).map_err(bad)?,
             ))
         }
     };
     if let Some(dir) = &args.svg {
-        write_frames(dir, &table, &cfg, &frames)?;
+        write_frames(dir, table, &cfg, frames)?;
     }
     print_scores(
         out,
         args.json,
         &report,
         kidnapped.as_ref(),
-        &reader,
-        rejected,
+        &input.reader,
+        input.rejected,
     )?;
-    Ok(if rejected > 0 { EXIT_REJECTED } else { EXIT_OK })
+    Ok(if input.rejected > 0 {
+        EXIT_REJECTED
+    } else {
+        EXIT_OK
+    })
+}
+
+/// Frames read and converted, ready to drive.
+pub(super) struct LoadedFrames {
+    /// The map's landmarks with ids.
+    pub table: LandmarkTable,
+    /// One frame per record.
+    pub frames: Vec<MetricFrame>,
+    /// The converter, with its counts of unknown, unpaired and dropped readings.
+    pub reader: RecordReader,
+    /// Malformed lines or rows reported and skipped.
+    pub rejected: usize,
+}
+
+/// Reads `input`'s map and records (stream or MRCLAM files) and converts them to frames;
+/// malformed lines are reported on stderr and counted in [`LoadedFrames::rejected`].
+pub(super) fn load_frames(input: &FrameInput) -> Result<LoadedFrames, CliError> {
+    let map = load_map(input.map.as_deref())?;
+    let (table, names) = map_landmarks(&map).map_err(bad)?;
+    if table.landmarks().is_empty() {
+        return Err(bad("the map has no landmark with an id"));
+    }
+    let (records, rejected) = match (&input.from_dir, &input.stream) {
+        (Some(dir), _) => {
+            let robot = input.robot.ok_or_else(|| bad("--from-dir needs --robot"))?;
+            super::extract::load_mrclam(dir, robot, &map)?
+        }
+        (None, Some(path)) => read_stream(path)?,
+        (None, None) => return Err(bad("no STREAM given")),
+    };
+    let mut reader = RecordReader::new(names);
+    reader.min_degree = input.min_degree;
+    let frames: Vec<MetricFrame> = records.iter().map(|r| reader.convert(r)).collect();
+    Ok(LoadedFrames {
+        table,
+        frames,
+        reader,
+        rejected,
+    })
+}
+
+/// Reads a RON configuration file and parses it with `parse`; a parse error is reported with
+/// the file's name (exit 2).
+pub(super) fn read_config<T, E: std::fmt::Display>(
+    path: &Path,
+    parse: impl Fn(&str) -> Result<T, E>,
+) -> Result<T, CliError> {
+    let src = read_source(path)?;
+    parse(&src.text).map_err(|e| bad(format!("{}: {e}", path.display())))
+}
+
+/// The kidnap asked for by `--kidnap-at`/`--kidnap-by`, with its time after the first frame (s);
+/// `None` without `--kidnap-at`.
+pub(super) fn kidnap(
+    args: &KidnapArgs,
+    frames: &[MetricFrame],
+) -> Result<Option<(f64, Kidnap)>, CliError> {
+    let Some(spec) = &args.kidnap_at else {
+        return Ok(None);
+    };
+    let Some(first) = frames.first() else {
+        return Err(bad("--kidnap-at: the stream has no frames"));
+    };
+    let time = if spec == "mid" {
+        frames[frames.len() / 2].t
+    } else {
+        match spec.parse::<f64>() {
+            Ok(s) if s.is_finite() && s >= 0.0 => first.t + s,
+            _ => {
+                return Err(bad(format!(
+                    "--kidnap-at: `{spec}` is not seconds or `mid`"
+                )))
+            }
+        }
+    };
+    let by = |k: usize| args.kidnap_by.get(k).copied().unwrap_or(0.0);
+    Ok(Some((
+        time - first.t,
+        Kidnap {
+            time,
+            forward: by(0),
+            lateral: by(1),
+            turn: by(2).to_radians(),
+        },
+    )))
+}
+
+/// Writes a run's estimates as a TUM trajectory (`t x y z qx qy qz qw`).
+pub(super) fn write_trajectory(path: &Path, frames: &[FrameEstimate]) -> Result<(), CliError> {
+    let poses: Vec<TumPose> = frames
+        .iter()
+        .map(|f| TumPose {
+            t: f.t,
+            x: f.pose.x,
+            y: f.pose.y,
+            yaw: f.pose.theta,
+        })
+        .collect();
+    let file = std::fs::File::create(path).map_err(|e| output_error(path, e))?;
+    let mut w = std::io::BufWriter::new(file);
+    write_tum(&mut w, &poses).map_err(|e| output_error(path, e))?;
+    w.flush().map_err(|e| output_error(path, e))?;
+    Ok(())
+}
+
+/// An output file's I/O error with the file named in the message (exit 1).
+pub(super) fn output_error(path: &Path, e: std::io::Error) -> CliError {
+    CliError::Write(std::io::Error::new(
+        e.kind(),
+        format!("{}: {e}", path.display()),
+    ))
 }
 
 fn print_scores(

@@ -1,4 +1,4 @@
-//! The command line: `lplace check | explain | eval | simulate | extract | grid`.
+//! The command line: `lplace check | explain | eval | simulate | extract | grid | compare | fuse`.
 //!
 //! Flags are handled in two stages, as in ripgrep: [`args`] parses the command line with clap
 //! into plain data, then each command module turns that into a ready-to-run command (files read,
@@ -16,6 +16,7 @@
 
 pub mod args;
 mod check;
+mod compare;
 mod eval;
 mod explain;
 mod extract;
@@ -94,6 +95,7 @@ pub fn main() -> ExitCode {
         args::Command::Simulate(a) => simulate::run(&a, &mut out),
         args::Command::Extract(a) => extract::run(&a, &mut out),
         args::Command::Grid(a) => grid::run(&a, &mut out),
+        args::Command::Compare(a) => compare::run(&a, &mut out),
         args::Command::Fuse(a) => fuse::run(&a, &mut out),
     };
     let result = result.and_then(|code| out.flush().map(|_| code).map_err(CliError::Write));

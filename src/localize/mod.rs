@@ -64,6 +64,8 @@
 //! assert!(drive.finish().ate.unwrap().rmse < 0.1);
 //! ```
 
+pub mod perturb;
+
 use crate::grid::{wrap_pi, LandmarkTable, Motion, Observation};
 use crate::io::mrclam::{MetricFrame, Pose2};
 use serde::{Deserialize, Serialize};

@@ -7,6 +7,7 @@
 
 pub mod plot;
 pub mod summary;
+pub mod sweep;
 pub mod trajectory;
 
 pub use plot::RunPlot;

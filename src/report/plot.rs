@@ -208,7 +208,8 @@ impl RunPlot {
     }
 }
 
-fn xml_escape(s: &str) -> String {
+/// Escapes text for SVG content and attribute values.
+pub(crate) fn xml_escape(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")

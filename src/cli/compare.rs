@@ -1,0 +1,728 @@
+//! `lplace compare STREAM --methods fpg,pf:500,pf:2000,rmcl`: runs several metric localizers
+//! over the same frames through the one driver ([`crate::localize::Drive`]), so they are fed,
+//! kidnapped and scored alike, and prints one table: ATE RMSE / median / max, time to first fix,
+//! kidnap recovery and wall time per step. `--tum-dir` writes each method's trajectory;
+//! `--sweep` adds paper 001's noisy- and sparse-data runs ([`crate::localize::perturb`]), every
+//! method on the same perturbed frames, and `--svg` plots them ([`crate::report::sweep`]).
+//!
+//! Input is read exactly as `lplace grid` reads it (a stream, or `--from-dir` MRCLAM files; see
+//! `super::grid::load_frames`). Methods are named by [`MethodSpec`]; [`run_method`] is the one
+//! place that builds a method from its spec, so adding a method is one variant and one arm.
+//!
+//! May depend on: `localize`, `grid`, `baseline`, `io`, `report`, and `super::grid` for input.
+
+use std::fmt;
+use std::io::Write;
+use std::path::PathBuf;
+use std::str::FromStr;
+use std::time::{Duration, Instant};
+
+use super::grid::{
+    bad, kidnap, load_frames, output_error, read_config, write_trajectory, FrameInput, KidnapArgs,
+};
+use super::{CliError, EXIT_OK, EXIT_REJECTED};
+use crate::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
+use crate::grid::run::GridLocalizer;
+use crate::grid::{GridConfig, LandmarkTable};
+use crate::io::mrclam::MetricFrame;
+use crate::localize::perturb::{perturb, Perturbation, KEEP_LEVELS, NOISE_LEVELS};
+use crate::localize::{AteStats, Drive, Localizer, Recovery, RunOptions, RunReport};
+use crate::report::sweep::{self, Panel, Series};
+
+/// The bundled grid parameters for MRCLAM (config/grid-mrclam.ron), the default of `--config`.
+const GRID_CONFIG: &str = include_str!("../../config/grid-mrclam.ron");
+
+/// One method to run, as written in `--methods`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum MethodSpec {
+    /// `fpg`: the Fuzzy Position Grid (paper 000).
+    Fpg,
+    /// `pf` or `pf:N`: the particle filter (paper 004) with N particles (`pf`: the
+    /// configuration's count).
+    Pf {
+        /// Particle count, overriding the configuration's.
+        particles: Option<usize>,
+    },
+    /// `rmcl`: Fuzzy R-MCL (paper 001).
+    Rmcl,
+}
+
+/// Largest particle count accepted in `pf:N` (a guard against typos that would exhaust memory).
+pub const MAX_PARTICLES: usize = 1_000_000;
+
+/// A `--methods` entry that names no method.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum MethodSpecError {
+    /// Not a method name.
+    #[error("unknown method `{spec}` (methods: fpg, pf, pf:N, rmcl)")]
+    Unknown {
+        /// What was written.
+        spec: String,
+    },
+    /// `pf:` followed by something that is not a particle count.
+    #[error("`{spec}`: the particle count must be a whole number from 1 to {max}")]
+    BadCount {
+        /// What was written.
+        spec: String,
+        /// The largest count.
+        max: usize,
+    },
+}
+
+impl FromStr for MethodSpec {
+    type Err = MethodSpecError;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let spec = s.trim();
+        match spec.to_ascii_lowercase().as_str() {
+            "fpg" | "grid" => return Ok(MethodSpec::Fpg),
+            "pf" => return Ok(MethodSpec::Pf { particles: None }),
+            "rmcl" => return Ok(MethodSpec::Rmcl),
+            _ => {}
+        }
+        let Some(count) = spec
+            .strip_prefix("pf:")
+            .or_else(|| spec.strip_prefix("PF:"))
+        else {
+            return Err(MethodSpecError::Unknown {
+                spec: spec.to_string(),
+            });
+        };
+        match count.parse::<usize>() {
+            Ok(n) if (1..=MAX_PARTICLES).contains(&n) => Ok(MethodSpec::Pf { particles: Some(n) }),
+            _ => Err(MethodSpecError::BadCount {
+                spec: spec.to_string(),
+                max: MAX_PARTICLES,
+            }),
+        }
+    }
+}
+
+impl fmt::Display for MethodSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MethodSpec::Fpg => write!(f, "fpg"),
+            MethodSpec::Pf { particles: None } => write!(f, "pf"),
+            MethodSpec::Pf { particles: Some(n) } => write!(f, "pf:{n}"),
+            MethodSpec::Rmcl => write!(f, "rmcl"),
+        }
+    }
+}
+
+impl MethodSpec {
+    /// The method's TUM file name in `--tum-dir` (`pf:500` → `pf-500.tum`: no `:` in names).
+    pub fn file_name(&self) -> String {
+        format!("{}.tum", self.to_string().replace(':', "-"))
+    }
+}
+
+/// What `--format` prints.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// Markdown tables.
+    Table,
+    /// One JSON object.
+    Json,
+    /// One CSV row per method and run.
+    Csv,
+}
+
+/// Which of paper 001's sweeps `--sweep` runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SweepKind {
+    /// Added range/bearing noise.
+    Noise,
+    /// Fraction of readings kept.
+    Sparsity,
+    /// Both.
+    Both,
+}
+
+/// `lplace compare`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct CompareArgs {
+    /// The input.
+    #[command(flatten)]
+    pub input: FrameInput,
+    /// Methods to run, comma-separated: `fpg` (Fuzzy Position Grid), `pf:N` (particle filter,
+    /// N particles; `pf` alone: --pf-config's count), `rmcl` (Fuzzy R-MCL).
+    #[arg(
+        long,
+        value_name = "LIST",
+        value_delimiter = ',',
+        default_value = "fpg,pf:500,pf:2000,rmcl"
+    )]
+    pub methods: Vec<MethodSpec>,
+    /// Grid parameters (RON, see `grid::GridConfig`); also the cell size and bounds of R-MCL's
+    /// grid. Default: the bundled config/grid-mrclam.ron.
+    #[arg(long, value_name = "CONFIG")]
+    pub config: Option<PathBuf>,
+    /// Particle filter parameters (RON). Default: the bundled config/pf.ron.
+    #[arg(long, value_name = "CONFIG")]
+    pub pf_config: Option<PathBuf>,
+    /// Fuzzy R-MCL parameters (RON). Default: the bundled config/rmcl.ron.
+    #[arg(long, value_name = "CONFIG")]
+    pub rmcl_config: Option<PathBuf>,
+    /// Seed of the sampling methods and of the sweeps' perturbations (same seed, same output).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub seed: u64,
+    /// Write each method's trajectory (unperturbed run) into this directory as METHOD.tum
+    /// (`pf:500` → pf-500.tum); the directory is created if needed.
+    #[arg(long, value_name = "DIR")]
+    pub tum_dir: Option<PathBuf>,
+    /// The kidnap.
+    #[command(flatten)]
+    pub kidnap: KidnapArgs,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+    /// Also run paper 001's sweeps: added Gaussian noise (σ range / σ bearing: 0/0, 0.1 m/2°,
+    /// 0.25 m/5°, 0.5 m/10°, 1 m/20°) and readings kept (100, 50, 25, 10 %), all methods on
+    /// the same perturbed frames.
+    #[arg(long, value_enum, value_name = "WHICH")]
+    pub sweep: Option<SweepKind>,
+    /// Plot the sweeps' ATE RMSE per method as SVG into this file (needs --sweep).
+    #[arg(long, value_name = "FILE", requires = "sweep")]
+    pub svg: Option<PathBuf>,
+}
+
+/// The bundled particle filter parameters (config/pf.ron), the default of `--pf-config`.
+const PF_CONFIG: &str = include_str!("../../config/pf.ron");
+/// The bundled Fuzzy R-MCL parameters (config/rmcl.ron), the default of `--rmcl-config`.
+const RMCL_CONFIG: &str = include_str!("../../config/rmcl.ron");
+
+/// Everything the methods are built from.
+struct Setup<'a> {
+    table: &'a LandmarkTable,
+    grid: &'a GridConfig,
+    pf: PfConfig,
+    rmcl: RmclConfig,
+    /// Where the sampling methods start spread: the grid's bounds, so all start alike.
+    bounds: [f32; 4],
+    seed: u64,
+}
+
+/// One method's run.
+struct Ran {
+    report: RunReport,
+    /// Wall time of the stepping alone.
+    took: Duration,
+    /// R-MCL only: how its estimates were made (why it may match `fpg`).
+    rmcl: Option<RmclCounts>,
+}
+
+/// How many of R-MCL's estimates came from its samples.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+struct RmclCounts {
+    /// Frames whose estimate is the mean of the best samples.
+    sampled: usize,
+    /// Frames with readings whose estimate fell back to the grid's.
+    fallbacks: usize,
+}
+
+/// Runs `loc` over `frames` through a fresh [`Drive`]; the duration is the wall time of the
+/// stepping alone (building the method and scoring are left out).
+fn timed<L: Localizer>(
+    loc: &mut L,
+    table: &LandmarkTable,
+    frames: &[MetricFrame],
+    opts: &RunOptions,
+) -> Ran {
+    let mut d = Drive::new(table, *opts);
+    let start = Instant::now();
+    for f in frames {
+        d.step(loc, f);
+    }
+    let took = start.elapsed();
+    Ran {
+        report: d.finish(),
+        took,
+        rmcl: None,
+    }
+}
+
+/// Builds the method `spec` afresh (seeded) and runs it: the one factory of methods.
+fn run_method(
+    spec: MethodSpec,
+    s: &Setup<'_>,
+    frames: &[MetricFrame],
+    opts: &RunOptions,
+) -> Result<Ran, CliError> {
+    let why = |e: &dyn fmt::Display| bad(format!("{spec}: {e}"));
+    Ok(match spec {
+        MethodSpec::Fpg => {
+            let mut g = GridLocalizer::new(s.table, s.grid).map_err(|e| why(&e))?;
+            timed(&mut g, s.table, frames, opts)
+        }
+        MethodSpec::Pf { particles } => {
+            let cfg = PfConfig {
+                particles: particles.unwrap_or(s.pf.particles),
+                ..s.pf.clone()
+            };
+            let mut pf =
+                ParticleFilter::new(s.table, &cfg, s.bounds, s.seed).map_err(|e| why(&e))?;
+            timed(&mut pf, s.table, frames, opts)
+        }
+        MethodSpec::Rmcl => {
+            let mut r =
+                FuzzyRmcl::new(s.table, &s.rmcl, s.grid, s.bounds, s.seed).map_err(|e| why(&e))?;
+            // Run first: the counts are read after the run.
+            let ran = timed(&mut r, s.table, frames, opts);
+            Ran {
+                rmcl: Some(RmclCounts {
+                    sampled: r.sampled(),
+                    fallbacks: r.fallbacks(),
+                }),
+                ..ran
+            }
+        }
+    })
+}
+
+/// One method's row of the main table.
+#[derive(Debug, Clone, serde::Serialize)]
+struct MethodRow {
+    method: String,
+    frames: usize,
+    ate: Option<AteStats>,
+    ate_all: Option<AteStats>,
+    heading_rmse: Option<f64>,
+    first_fix: Option<f64>,
+    kidnap_at: Option<f64>,
+    /// Seconds to recover; `None` with `kidnap_at` set means not recovered.
+    recovery: Option<f64>,
+    wall_s: f64,
+    time_per_step_us: f64,
+    used: usize,
+    thinned: usize,
+    unknown: usize,
+    rejected_readings: usize,
+    /// R-MCL: how its estimates were made.
+    rmcl: Option<RmclCounts>,
+}
+
+/// One method at one perturbation level.
+#[derive(Debug, Clone, serde::Serialize)]
+struct SweepPoint {
+    method: String,
+    sweep: &'static str,
+    range_sigma: f64,
+    bearing_sigma_deg: f64,
+    keep: f64,
+    ate: Option<AteStats>,
+    ate_all: Option<AteStats>,
+    first_fix: Option<f64>,
+}
+
+/// Runs `compare`: tables to `out`, problems to stderr.
+///
+/// # Errors
+/// [`CliError::Read`] when a file cannot be read, [`CliError::Diagnostics`] for a bad map,
+/// configuration or flag (printed first), [`CliError::Write`] when an output fails.
+pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
+    let mut seen = std::collections::BTreeSet::new();
+    for m in &args.methods {
+        if !seen.insert(m.file_name()) {
+            return Err(bad(format!("--methods: `{m}` is given twice")));
+        }
+    }
+    if args.methods.is_empty() {
+        return Err(bad("--methods: no method given"));
+    }
+    let grid = match &args.config {
+        None => GridConfig::from_ron(GRID_CONFIG).map_err(bad)?,
+        Some(p) => read_config(p, GridConfig::from_ron)?,
+    };
+    grid.validate().map_err(bad)?;
+    let input = load_frames(&args.input)?;
+    let (table, frames) = (&input.table, &input.frames);
+    let bounds = match grid.bounds {
+        Some(b) => b,
+        None => table
+            .bounds(grid.margin)
+            .ok_or_else(|| bad("the map has no landmark with an id"))?,
+    };
+    let setup = Setup {
+        table,
+        grid: &grid,
+        pf: match &args.pf_config {
+            None => PfConfig::from_ron(PF_CONFIG).map_err(bad)?,
+            Some(p) => read_config(p, PfConfig::from_ron)?,
+        },
+        rmcl: match &args.rmcl_config {
+            None => RmclConfig::from_ron(RMCL_CONFIG).map_err(bad)?,
+            Some(p) => read_config(p, RmclConfig::from_ron)?,
+        },
+        bounds,
+        seed: args.seed,
+    };
+    let kidnapped = kidnap(&args.kidnap, frames)?;
+    if let Some(dir) = &args.tum_dir {
+        std::fs::create_dir_all(dir).map_err(|e| output_error(dir, e))?;
+    }
+    let mut rows = Vec::new();
+    for &m in &args.methods {
+        let Ran { report, took, rmcl } = run_method(m, &setup, frames, &RunOptions::default())?;
+        if let Some(dir) = &args.tum_dir {
+            write_trajectory(&dir.join(m.file_name()), &report.frames)?;
+        }
+        let recovery = match kidnapped {
+            None => None,
+            Some((_, k)) => {
+                let opts = RunOptions {
+                    kidnap: Some(k),
+                    ..RunOptions::default()
+                };
+                match run_method(m, &setup, frames, &opts)?.report.recovery {
+                    Some(Recovery::Recovered { after }) => Some(after),
+                    _ => None,
+                }
+            }
+        };
+        let n = report.frames.len();
+        rows.push(MethodRow {
+            method: m.to_string(),
+            frames: n,
+            ate: report.ate,
+            ate_all: report.ate_all,
+            heading_rmse: report.heading_rmse,
+            first_fix: report.first_fix.map(|f| f.after),
+            kidnap_at: kidnapped.map(|k| k.0),
+            recovery,
+            wall_s: took.as_secs_f64(),
+            time_per_step_us: if n > 0 {
+                took.as_secs_f64() * 1e6 / n as f64
+            } else {
+                0.0
+            },
+            used: report.used,
+            thinned: report.thinned,
+            unknown: report.unknown + input.reader.stats.unknown,
+            rejected_readings: report.rejected,
+            rmcl,
+        });
+    }
+    let points = match args.sweep {
+        None => Vec::new(),
+        Some(kind) => run_sweeps(kind, args, &setup, frames)?,
+    };
+    if let Some(path) = &args.svg {
+        std::fs::write(path, plot(&args.methods, &points)).map_err(|e| output_error(path, e))?;
+    }
+    match args.format {
+        Format::Table => print_table(out, &rows, &points)?,
+        Format::Json => {
+            let v = serde_json::json!({
+                "methods": rows,
+                "sweep": points,
+                "rejected_lines": input.rejected,
+            });
+            writeln!(out, "{v}")?;
+        }
+        Format::Csv => print_csv(out, &rows, &points)?,
+    }
+    Ok(if input.rejected > 0 {
+        EXIT_REJECTED
+    } else {
+        EXIT_OK
+    })
+}
+
+/// The perturbations of a sweep kind: (sweep name, perturbation), in plotting order.
+fn levels(kind: SweepKind) -> Vec<(&'static str, Perturbation)> {
+    let mut v = Vec::new();
+    if matches!(kind, SweepKind::Noise | SweepKind::Both) {
+        v.extend(
+            NOISE_LEVELS
+                .iter()
+                .map(|&(r, b)| ("noise", Perturbation::noise(r, b))),
+        );
+    }
+    if matches!(kind, SweepKind::Sparsity | SweepKind::Both) {
+        v.extend(
+            KEEP_LEVELS
+                .iter()
+                .map(|&k| ("sparsity", Perturbation::sparsity(k))),
+        );
+    }
+    v
+}
+
+/// Runs every method at every level; each level's frames are perturbed once, with `--seed`,
+/// and shared by all methods.
+fn run_sweeps(
+    kind: SweepKind,
+    args: &CompareArgs,
+    s: &Setup<'_>,
+    frames: &[MetricFrame],
+) -> Result<Vec<SweepPoint>, CliError> {
+    let mut points = Vec::new();
+    for (sweep, p) in levels(kind) {
+        let perturbed = perturb(frames, &p, args.seed).map_err(bad)?;
+        for &m in &args.methods {
+            let r = run_method(m, s, &perturbed, &RunOptions::default())?.report;
+            points.push(SweepPoint {
+                method: m.to_string(),
+                sweep,
+                range_sigma: p.range_sigma,
+                bearing_sigma_deg: p.bearing_sigma.to_degrees(),
+                keep: p.keep,
+                ate: r.ate,
+                ate_all: r.ate_all,
+                first_fix: r.first_fix.map(|f| f.after),
+            });
+        }
+    }
+    Ok(points)
+}
+
+/// A level's column label: `σr m / σb °` for noise, `k %` for sparsity.
+fn level_label(p: &SweepPoint) -> String {
+    if p.sweep == "noise" {
+        format!("{} m / {}°", trim(p.range_sigma), trim(p.bearing_sigma_deg))
+    } else {
+        format!("{} %", trim(p.keep * 100.0))
+    }
+}
+
+/// The points of one sweep (`noise` or `sparsity`) and its level labels in run order; `None`
+/// when that sweep was not run.
+fn one_sweep<'p>(
+    points: &'p [SweepPoint],
+    sweep: &str,
+) -> Option<(Vec<&'p SweepPoint>, Vec<String>)> {
+    let of: Vec<&SweepPoint> = points.iter().filter(|p| p.sweep == sweep).collect();
+    if of.is_empty() {
+        return None;
+    }
+    let mut labels: Vec<String> = Vec::new();
+    for p in &of {
+        let l = level_label(p);
+        if !labels.contains(&l) {
+            labels.push(l);
+        }
+    }
+    Some((of, labels))
+}
+
+/// A number with no trailing zeros (levels are short decimals).
+fn trim(v: f64) -> String {
+    let t = format!("{v:.3}");
+    t.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// The sweeps as plot panels: ATE RMSE (from the first fix) per method.
+fn plot(methods: &[MethodSpec], points: &[SweepPoint]) -> String {
+    let mut panels = Vec::new();
+    for (sweep, title) in [
+        ("noise", "added noise (σ range / σ bearing)"),
+        ("sparsity", "readings kept"),
+    ] {
+        let Some((of, labels)) = one_sweep(points, sweep) else {
+            continue;
+        };
+        let series = methods
+            .iter()
+            .map(|m| {
+                let name = m.to_string();
+                Series {
+                    values: of
+                        .iter()
+                        .filter(|p| p.method == name)
+                        .map(|p| p.ate.map(|a| a.rmse))
+                        .collect(),
+                    name,
+                }
+            })
+            .collect();
+        panels.push(Panel {
+            title: title.to_string(),
+            levels: labels,
+            series,
+        });
+    }
+    sweep::svg(&panels, "ATE RMSE from first fix [m]")
+}
+
+fn opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or("–".to_string(), |v| format!("{v:.digits$}"))
+}
+
+fn print_table(
+    out: &mut impl Write,
+    rows: &[MethodRow],
+    points: &[SweepPoint],
+) -> Result<(), CliError> {
+    writeln!(
+        out,
+        "| method | frames | ATE RMSE [m] | median [m] | max [m] | ATE all frames [m] | heading RMSE [rad] | first fix [s] | kidnap recovery [s] | time/step [µs] |"
+    )?;
+    writeln!(out, "|---|---|---|---|---|---|---|---|---|---|")?;
+    for r in rows {
+        let recovery = match (r.kidnap_at, r.recovery) {
+            (None, _) => "–".to_string(),
+            (Some(_), Some(s)) => format!("{s:.1}"),
+            (Some(_), None) => "not recovered".to_string(),
+        };
+        writeln!(
+            out,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1} |",
+            r.method,
+            r.frames,
+            opt(r.ate.map(|a| a.rmse), 3),
+            opt(r.ate.map(|a| a.median), 3),
+            opt(r.ate.map(|a| a.max), 3),
+            opt(r.ate_all.map(|a| a.rmse), 3),
+            opt(r.heading_rmse, 3),
+            opt(r.first_fix, 1),
+            recovery,
+            r.time_per_step_us
+        )?;
+    }
+    for r in rows {
+        if let Some(c) = r.rmcl {
+            writeln!(
+                out,
+                "\n{}: estimate from samples in {} of {} frames, the grid's after a failed sampling in {}, the grid's (no readings) in the rest",
+                r.method, c.sampled, r.frames, c.fallbacks
+            )?;
+        }
+    }
+    if let Some(at) = rows.first().and_then(|r| r.kidnap_at) {
+        writeln!(out, "\nkidnap injected {at:.1} s after the first frame")?;
+    }
+    writeln!(
+        out,
+        "\nATE: position error vs truth, no alignment, from each method's first fix (ATE all frames: RMSE from the first frame); time/step: wall time of the run / frames."
+    )?;
+    for (sweep, title) in [
+        (
+            "noise",
+            "ATE RMSE [m] from first fix vs added noise (σ range / σ bearing)",
+        ),
+        ("sparsity", "ATE RMSE [m] from first fix vs readings kept"),
+    ] {
+        let Some((of, labels)) = one_sweep(points, sweep) else {
+            continue;
+        };
+        writeln!(out, "\n{title}\n")?;
+        writeln!(out, "| method | {} |", labels.join(" | "))?;
+        writeln!(out, "|---|{}", "---|".repeat(labels.len()))?;
+        for r in rows {
+            let cells: Vec<String> = of
+                .iter()
+                .filter(|p| p.method == r.method)
+                .map(|p| {
+                    p.ate
+                        .map_or("no fix".to_string(), |a| format!("{:.3}", a.rmse))
+                })
+                .collect();
+            writeln!(out, "| {} | {} |", r.method, cells.join(" | "))?;
+        }
+    }
+    Ok(())
+}
+
+fn print_csv(
+    out: &mut impl Write,
+    rows: &[MethodRow],
+    points: &[SweepPoint],
+) -> Result<(), CliError> {
+    let o = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v}"));
+    writeln!(
+        out,
+        "method,run,range_sigma_m,bearing_sigma_deg,keep,ate_rmse_m,ate_median_m,ate_max_m,ate_all_rmse_m,first_fix_s,kidnap_recovery_s,time_per_step_us"
+    )?;
+    for r in rows {
+        let recovery = match (r.kidnap_at, r.recovery) {
+            (Some(_), None) => "never".to_string(),
+            (_, v) => o(v),
+        };
+        writeln!(
+            out,
+            "{},main,0,0,1,{},{},{},{},{},{},{}",
+            r.method,
+            o(r.ate.map(|a| a.rmse)),
+            o(r.ate.map(|a| a.median)),
+            o(r.ate.map(|a| a.max)),
+            o(r.ate_all.map(|a| a.rmse)),
+            o(r.first_fix),
+            recovery,
+            r.time_per_step_us
+        )?;
+    }
+    for p in points {
+        writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{},{},,",
+            p.method,
+            p.sweep,
+            p.range_sigma,
+            p.bearing_sigma_deg,
+            p.keep,
+            o(p.ate.map(|a| a.rmse)),
+            o(p.ate.map(|a| a.median)),
+            o(p.ate.map(|a| a.max)),
+            o(p.ate_all.map(|a| a.rmse)),
+            o(p.first_fix),
+        )?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn method_specs_parse_and_print_back() {
+        for (s, m) in [
+            ("fpg", MethodSpec::Fpg),
+            ("rmcl", MethodSpec::Rmcl),
+            ("pf", MethodSpec::Pf { particles: None }),
+            (
+                "pf:500",
+                MethodSpec::Pf {
+                    particles: Some(500),
+                },
+            ),
+        ] {
+            assert_eq!(s.parse::<MethodSpec>(), Ok(m));
+            assert_eq!(m.to_string(), s);
+        }
+        assert_eq!(
+            " PF:2000 ".parse::<MethodSpec>(),
+            Ok(MethodSpec::Pf {
+                particles: Some(2000)
+            })
+        );
+        assert_eq!(
+            MethodSpec::Pf {
+                particles: Some(500)
+            }
+            .file_name(),
+            "pf-500.tum"
+        );
+    }
+
+    #[test]
+    fn bad_method_specs_say_why() {
+        assert!(matches!(
+            "kalman".parse::<MethodSpec>(),
+            Err(MethodSpecError::Unknown { .. })
+        ));
+        assert!(matches!(
+            "".parse::<MethodSpec>(),
+            Err(MethodSpecError::Unknown { .. })
+        ));
+        for bad in ["pf:", "pf:0", "pf:-3", "pf:1e3", "pf:2000000", "pf:x"] {
+            assert!(
+                matches!(
+                    bad.parse::<MethodSpec>(),
+                    Err(MethodSpecError::BadCount { .. })
+                ),
+                "{bad}"
+            );
+        }
+    }
+}
