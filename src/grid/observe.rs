@@ -42,6 +42,7 @@
 //! assert!(g.possibility(c, r) < 0.2);
 //! ```
 
+use super::cells::raw_max;
 use super::{Combine, FuzzyGrid, GridError, Trapezoid};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::{FRAC_PI_2, PI};
@@ -476,16 +477,16 @@ impl FuzzyGrid {
     pub fn update_range(&mut self, lx: f32, ly: f32, r: f32) -> Result<f32, GridError> {
         Self::check_obs((lx, ly), Some(r), None)?;
         self.apply_pending();
-        self.range_pass(lx, ly, r);
-        Ok(self.finish_update())
+        let raw = self.range_pass(lx, ly, r);
+        Ok(self.finish_update_from(raw))
     }
 
     /// Updates with a bearing reading only (needs the heading sets).
     pub fn update_bearing(&mut self, lx: f32, ly: f32, bearing: f32) -> Result<f32, GridError> {
         Self::check_obs((lx, ly), None, Some(bearing))?;
         self.apply_pending();
-        self.bearing_pass(lx, ly, None, bearing);
-        Ok(self.finish_update())
+        let raw = self.bearing_pass(lx, ly, None, bearing);
+        Ok(self.finish_update_from(raw))
     }
 
     /// Updates with range and bearing of the same sighting; the two factors are
@@ -499,8 +500,8 @@ impl FuzzyGrid {
     ) -> Result<f32, GridError> {
         Self::check_obs((lx, ly), Some(r), Some(bearing))?;
         self.apply_pending();
-        self.bearing_pass(lx, ly, Some(r), bearing);
-        Ok(self.finish_update())
+        let raw = self.bearing_pass(lx, ly, Some(r), bearing);
+        Ok(self.finish_update_from(raw))
     }
 
     /// Updates with an [`Observation`] of a landmark from `table`.
@@ -528,7 +529,10 @@ impl FuzzyGrid {
         }
     }
 
-    fn range_pass(&mut self, lx: f32, ly: f32, r: f32) {
+    /// Combines the plane with the range reading; returns its
+    /// [`super::cells::raw_max`], measured row by row while each row is in
+    /// cache, for [`FuzzyGrid::finish_update_from`].
+    fn range_pass(&mut self, lx: f32, ly: f32, r: f32) -> f32 {
         let t = self.cfg.range.around(r);
         let w = 0.5 * t.core + t.slope;
         let r_out = r + w;
@@ -547,12 +551,14 @@ impl FuzzyGrid {
             s,
             t,
         };
+        let mut raw = 0.0f32;
         for j in 0..self.ny {
             let y = self.y0 + (j as f32 + 0.5) * s;
             let dy = y - ly;
             let row = &mut self.h[j * self.nx..(j + 1) * self.nx];
             if dy.abs() > r_out {
                 outside(row);
+                raw = raw.max(raw_max(row));
                 continue;
             }
             let ox = (r_out * r_out - dy * dy).max(0.0).sqrt();
@@ -579,10 +585,15 @@ impl FuzzyGrid {
                     ring(&mut row[a..b], a, &ring_ctx, dy2, combine);
                 }
             }
+            raw = raw.max(raw_max(row));
         }
+        raw
     }
 
-    fn bearing_pass(&mut self, lx: f32, ly: f32, range: Option<f32>, bearing: f32) {
+    /// Combines the plane and the heading sets with the bearing (and range)
+    /// reading; returns the plane's [`super::cells::raw_max`], measured row
+    /// by row, for [`FuzzyGrid::finish_update_from`].
+    fn bearing_pass(&mut self, lx: f32, ly: f32, range: Option<f32>, bearing: f32) -> f32 {
         let rt = range.map(|r| self.cfg.range.around(r));
         let obs = self.cfg.bearing.around(0.0);
         let o = ObsSet {
@@ -596,6 +607,7 @@ impl FuzzyGrid {
         // other input (rare: configured or user-set) takes the scalar path.
         let fast = bearing.abs() <= PI && o.w0 < PI;
         let combine = self.cfg.combine;
+        let mut raw = 0.0f32;
         for j in 0..self.ny {
             let lo = j * self.nx;
             let hi = lo + self.nx;
@@ -604,6 +616,7 @@ impl FuzzyGrid {
             let in_range = thetas.iter().fold(true, |ok, &t| ok & (t.abs() <= PI));
             if !(fast && in_range) {
                 self.bearing_row_scalar(j, lx, ly, rt, bearing);
+                raw = raw.max(raw_max(&self.h[lo..hi]));
                 continue;
             }
             match (rt, combine) {
@@ -616,7 +629,9 @@ impl FuzzyGrid {
                 }
                 (None, Combine::Min) => self.bearing_row::<false, true>(j, lx, ly, obs, bearing, o),
             }
+            raw = raw.max(raw_max(&self.h[lo..hi]));
         }
+        raw
     }
 
     /// Row `j` of the bearing pass, every cell through the branch-free
