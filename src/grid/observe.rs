@@ -161,6 +161,47 @@ fn to_col(v: f32, lo: usize, hi: usize) -> usize {
     }
 }
 
+/// Columns of a row at vertical distance `dy` from the landmark where the
+/// range trapezoid (support radii `r_in..r_out` around the landmark at `lx`)
+/// can be above its bias: `c_lo..c_hi` minus the hole `h_lo..h_hi`
+/// (`h_lo = h_hi` when the row misses the hole). Cells outside get exactly
+/// the bias; the bounds carry a cell of margin for rounding.
+#[allow(clippy::too_many_arguments)]
+fn annulus_cols(
+    x0: f32,
+    s: f32,
+    nx: usize,
+    lx: f32,
+    dy: f32,
+    r_out: f32,
+    r_in: f32,
+) -> (usize, usize, usize, usize) {
+    let col_of = |x: f32| (x - x0) / s - 0.5; // fractional column of a centre
+    let ox = (r_out * r_out - dy * dy).max(0.0).sqrt();
+    // Column bounds are clamped as floats, so huge readings cannot overflow
+    // an integer.
+    let c_lo = to_col(col_of(lx - ox).floor() - 1.0, 0, nx);
+    let c_hi = to_col(col_of(lx + ox).ceil() + 2.0, 0, nx); // exclusive
+                                                            // The hole of the annulus (cells certainly closer than r_in).
+    let (mut h_lo, mut h_hi) = (c_lo, c_lo);
+    if dy.abs() < r_in {
+        let ix = (r_in * r_in - dy * dy).max(0.0).sqrt();
+        let a = to_col(col_of(lx - ix).ceil() + 1.0, c_lo, c_hi);
+        let b = to_col(col_of(lx + ix).floor(), a, c_hi);
+        (h_lo, h_hi) = (a, b);
+    }
+    (c_lo, c_hi, h_lo, h_hi)
+}
+
+/// A column index as a float, through `i32`: the same value as `c as f32`
+/// (columns are far below 2³¹), but SSE2 converts 32-bit integers four at a
+/// time and 64-bit ones only one by one, which kept the per-cell loops from
+/// vectorising well.
+#[inline(always)]
+fn col_f(c: usize) -> f32 {
+    c as i32 as f32
+}
+
 /// What [`ring`] needs to evaluate the range membership of a cell.
 struct Ring {
     /// Left edge of the grid and landmark x (metres).
@@ -203,7 +244,7 @@ fn range_member(t: &Trapezoid, dist: f32) -> f32 {
 #[inline]
 fn ring(row: &mut [f32], first: usize, k: &Ring, dy2: f32, combine: Combine) {
     let member = |c: usize| {
-        let dx = k.x0 + (c as f32 + 0.5) * k.s - k.lx;
+        let dx = k.x0 + (col_f(c) + 0.5) * k.s - k.lx;
         range_member(&k.t, (dx * dx + dy2).sqrt())
     };
     match combine {
@@ -544,7 +585,6 @@ impl FuzzyGrid {
             Combine::Product => row.iter_mut().for_each(|v| *v *= bias),
             Combine::Min => row.iter_mut().for_each(|v| *v = v.min(bias)),
         };
-        let col_of = |x: f32| (x - self.x0) / s - 0.5; // fractional column of a centre
         let ring_ctx = Ring {
             x0: self.x0,
             lx,
@@ -561,19 +601,7 @@ impl FuzzyGrid {
                 raw = raw.max(raw_max(row));
                 continue;
             }
-            let ox = (r_out * r_out - dy * dy).max(0.0).sqrt();
-            // Column bounds are clamped as floats, so huge readings cannot
-            // overflow an integer.
-            let c_lo = to_col(col_of(lx - ox).floor() - 1.0, 0, self.nx);
-            let c_hi = to_col(col_of(lx + ox).ceil() + 2.0, 0, self.nx); // exclusive
-                                                                         // The hole of the annulus (cells certainly closer than r_in).
-            let (mut h_lo, mut h_hi) = (c_lo, c_lo);
-            if dy.abs() < r_in {
-                let ix = (r_in * r_in - dy * dy).max(0.0).sqrt();
-                let a = to_col(col_of(lx - ix).ceil() + 1.0, c_lo, c_hi);
-                let b = to_col(col_of(lx + ix).floor(), a, c_hi);
-                (h_lo, h_hi) = (a, b);
-            }
+            let (c_lo, c_hi, h_lo, h_hi) = annulus_cols(self.x0, s, self.nx, lx, dy, r_out, r_in);
             outside(&mut row[..c_lo]);
             outside(&mut row[c_hi..]);
             outside(&mut row[h_lo..h_hi]);
@@ -678,14 +706,28 @@ impl FuzzyGrid {
         let bs = &mut bias[lo..lo + n];
         let ocs = &mut line[..n];
         let fs = &mut line_out[..n];
-        for (c, (oc, f)) in ocs.iter_mut().zip(fs.iter_mut()).enumerate() {
-            let dx = lx - (x0 + (c as f32 + 0.5) * s);
-            *f = if RANGE {
-                range_member(&rt, (dx * dx + dy * dy).sqrt())
-            } else {
-                1.0
-            };
+        for (c, oc) in ocs.iter_mut().enumerate() {
+            let dx = lx - (x0 + (col_f(c) + 0.5) * s);
             *oc = wrap_near(atan2_sel(dy, dx) - bearing);
+        }
+        if RANGE {
+            // The range factor is exactly the bias outside the annulus (as
+            // in `range_pass`): evaluate it only on the annulus.
+            let w = 0.5 * rt.core + rt.slope;
+            let r_out = rt.center + w;
+            let r_in = (rt.center - w).max(0.0);
+            fs.fill(rt.bias);
+            if dy.abs() <= r_out {
+                let (c_lo, c_hi, h_lo, h_hi) = annulus_cols(x0, s, n, lx, dy, r_out, r_in);
+                for (a, b) in [(c_lo, h_lo), (h_hi, c_hi)] {
+                    for (c, f) in fs[a..b].iter_mut().enumerate() {
+                        let dx = lx - (x0 + (col_f(a + c) + 0.5) * s);
+                        *f = range_member(&rt, (dx * dx + dy * dy).sqrt());
+                    }
+                }
+            }
+        } else {
+            fs.fill(1.0);
         }
         let full = n - n % LANES;
         for b0 in (0..full).step_by(LANES) {
