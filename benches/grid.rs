@@ -3,8 +3,8 @@
 //!
 //! `cargo bench --bench grid -- --warm-up-time 1 --measurement-time 3`
 
-use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
-use lplace::grid::{FuzzyGrid, GridConfig, Motion};
+use criterion::{black_box, criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
+use lplace::grid::{FuzzyGrid, GridConfig, Motion, Trapezoid};
 
 fn grid(nx: usize, ny: usize) -> FuzzyGrid {
     let s = 0.1;
@@ -41,6 +41,25 @@ fn bench(c: &mut Criterion) {
                 g.update_range_bearing(black_box(0.5 * w), 0.5 * h, 0.3 * w.min(h), 0.2)
                     .unwrap()
             })
+        });
+        // Same, every cell with a definite heading: no block of unknown
+        // headings to skip, the bearing update's worst case. Each
+        // iteration updates a fresh copy (made outside the timing).
+        let mut known = base.clone();
+        for j in 0..ny {
+            for i in 0..nx {
+                known.set_heading_set(i, j, Trapezoid::new(0.3, 0.4, 0.3, 1.0, 0.2));
+            }
+        }
+        grp.bench_function("update_range_bearing_known", |b| {
+            b.iter_batched_ref(
+                || known.clone(),
+                |g| {
+                    g.update_range_bearing(black_box(0.5 * w), 0.5 * h, 0.3 * w.min(h), 0.2)
+                        .unwrap()
+                },
+                BatchSize::LargeInput,
+            )
         });
         for r in [1usize, 5, 10, 30] {
             let mut g = base.clone();

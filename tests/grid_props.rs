@@ -200,6 +200,71 @@ proptest! {
         prop_assert!((e.reliability - max * aref / (aref + area)).abs() < 1e-5);
     }
 
+    /// With the default configuration (flush, normalise, floor): the plane
+    /// after a range update is the brute-force product, flushed, clamped,
+    /// rescaled to height 1 and raised to the floor, and cells raised to the
+    /// floor forget their heading (bias 1, Δ = 2π) while the others keep
+    /// h · b ≥ floor.
+    #[test]
+    fn normalise_and_floor_are_brute_force(vals in prop::collection::vec(0.0f32..=1.0, 20 * 30), tiny in prop::collection::vec(any::<bool>(), 20 * 30), lx in -1.0f32..3.0, ly in -1.0f32..4.0, r in 0.0f32..3.0) {
+        let cfg = GridConfig::default();
+        let (m, floor, flush) = (cfg.range, cfg.floor, cfg.flush_below);
+        // Some cells far below the floor, so that every branch is taken.
+        let vals: Vec<f32> = vals.iter().zip(&tiny).map(|(&v, &t)| if t { v * 1e-9 } else { v }).collect();
+        let mut g = grid_with(cfg, 20, 30, &vals);
+        for j in 0..30 { for i in 0..20 {
+            g.set_heading_set(i, j, Trapezoid::new(0.5, 1.0, 0.2, 1.0, vals[j * 20 + i]));
+        }}
+        g.update_range(lx, ly, r).unwrap();
+        let (core, slope) = (m.core_abs + m.core_rel * r, m.slope_abs + m.slope_rel * r);
+        let prod: Vec<f32> = (0..600).map(|c| {
+            let (x, y) = ((c % 20) as f32 * 0.1 + 0.05, (c / 20) as f32 * 0.1 + 0.05);
+            let v = vals[c] * trap(((x - lx).powi(2) + (y - ly).powi(2)).sqrt(), r, core, slope, m.bias);
+            if v < flush { 0.0 } else { v.min(1.0) }
+        }).collect();
+        let max = prod.iter().cloned().fold(0.0, f32::max);
+        prop_assume!(max > 0.0);
+        prop_assert!((g.last_height() - max).abs() < 1e-6);
+        for c in 0..600 {
+            let n = (prod[c] / max).min(1.0);
+            let got = g.possibilities()[c];
+            let t = g.heading_set(c % 20, c / 20).unwrap();
+            if n < floor * 0.999 {
+                prop_assert_eq!(got, floor);
+                prop_assert!(t.bias == 1.0 && t.core >= 2.0 * std::f32::consts::PI);
+            } else if n > floor * 1.001 {
+                prop_assert!((got - n).abs() <= 1e-4 * n, "cell {}: {} vs {}", c, got, n);
+                prop_assert!((t.core - 1.0).abs() < 1e-6);
+                let b = vals[c];
+                let want_b = if n * b < floor { floor / n } else { b };
+                prop_assert!((t.bias - want_b).abs() <= 1e-4 * want_b.max(1e-6), "cell {}: bias {} vs {}", c, t.bias, want_b);
+            }
+            prop_assert!((0.0..=1.0).contains(&got));
+        }
+    }
+
+    /// The CoG on a concentrated belief (most rows far below the cut, which
+    /// the estimate skips) against brute force.
+    #[test]
+    fn cog_of_a_concentrated_belief_is_brute_force(vals in prop::collection::vec(0.0f32..=1.0, 20 * 30), band in 0usize..28) {
+        let cfg = raw_cfg(ElementShape::Octagon);
+        let (cut, top) = (cfg.cog_cut, cfg.top_cut);
+        let vals: Vec<f32> = vals.iter().enumerate().map(|(c, &v)| if (band..band + 3).contains(&(c / 20)) { v } else { v * 0.3 }).collect();
+        let g = grid_with(cfg, 20, 30, &vals);
+        let e = g.estimate();
+        let max = vals.iter().cloned().fold(0.0, f32::max);
+        prop_assume!(max > 0.0);
+        let (mut w, mut sx, mut sy, mut n) = (0.0f64, 0.0f64, 0.0f64, 0);
+        for j in 0..30 { for i in 0..20 {
+            let v = vals[j * 20 + i];
+            if v >= cut * max { w += v as f64; sx += v as f64 * (i as f64 + 0.5) * 0.1; sy += v as f64 * (j as f64 + 0.5) * 0.1; }
+            if v >= top * max { n += 1; }
+        }}
+        prop_assert!((e.x as f64 - sx / w).abs() < 1e-4);
+        prop_assert!((e.y as f64 - sy / w).abs() < 1e-4);
+        prop_assert!((e.top_area - n as f32 * 0.01).abs() < 1e-6);
+    }
+
     #[test]
     fn intersection_stays_under_min_and_in_range(ca in -4.0f32..4.0, da in 0.0f32..3.0, aa in 0.0f32..2.0, ba in 0.0f32..=1.0,
                                                  cb in -4.0f32..4.0, db in 0.0f32..3.0, ab in 0.0f32..2.0, bb in 0.0f32..=1.0) {

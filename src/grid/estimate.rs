@@ -17,9 +17,9 @@
 //!
 //! # Complexity
 //!
-//! O(cells): one pass for the maximum, one for the sums (four-lane, adds
-//! only, so it vectorises), plus a heading pass over the rows that hold top
-//! cells.
+//! O(cells): one pass for the maximum (per row, vectorised), one for the
+//! sums (four-lane, adds only, so it vectorises) over the rows that reach
+//! the cut, plus a heading pass over the rows that hold top cells.
 //!
 //! # Example
 //!
@@ -33,7 +33,12 @@
 //! assert!(e.reliability > 0.9);
 //! ```
 
+use super::cells::raw_max;
 use super::FuzzyGrid;
+
+/// Rows whose maxima [`FuzzyGrid::estimate`] keeps on the stack (16 KiB);
+/// rows beyond are always summed.
+const ROWS: usize = 4096;
 use serde::{Deserialize, Serialize};
 
 /// A point estimate with its reliabilities.
@@ -60,19 +65,19 @@ impl FuzzyGrid {
     /// is of the belief as last updated); use [`FuzzyGrid::apply_pending`]
     /// first if the prediction should be included.
     pub fn estimate(&self) -> Estimate {
-        // Eight independent maxima so that the pass vectorises.
-        let mut lanes = [0.0f32; 8];
-        let chunks = self.h.chunks_exact(8);
-        let rest = chunks.remainder();
-        for ch in chunks {
-            for l in 0..8 {
-                lanes[l] = if ch[l] > lanes[l] { ch[l] } else { lanes[l] };
+        // Pass 1: the maximum, and each row's maximum (kept for the first
+        // `ROWS` rows) so that pass 2 can skip rows with no cell at or above
+        // either cut: they add exactly 0 to every sum. A concentrated belief
+        // leaves only a few rows for pass 2.
+        let mut row_max = [0.0f32; ROWS];
+        let mut max = 0.0f32;
+        for (j, row) in self.h.chunks_exact(self.nx).enumerate() {
+            let m = raw_max(row);
+            if j < ROWS {
+                row_max[j] = m;
             }
+            max = if m > max { m } else { max };
         }
-        let max = rest
-            .iter()
-            .chain(lanes.iter())
-            .fold(0.0f32, |a, &b| if b > a { b } else { a });
         if max <= 0.0 {
             let (cx, cy) = self.cell_center(self.nx / 2, self.ny / 2);
             return Estimate {
@@ -90,7 +95,11 @@ impl FuzzyGrid {
         let mut hw_max = 0.0f64;
         let (mut sw, mut sx, mut sy, mut sc, mut ss) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
         let mut n_top = 0usize;
+        let low_cut = if cut < top { cut } else { top };
         for j in 0..self.ny {
+            if row_max.get(j).is_some_and(|&m| m < low_cut) {
+                continue;
+            }
             let base = j * self.nx;
             let row = &self.h[base..base + self.nx];
             let (rw, rx, rt) = row_sums(row, cut, top);

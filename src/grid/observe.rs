@@ -22,8 +22,13 @@
 //! # Complexity
 //!
 //! Range only: O(cells) with a small constant (O(annulus) vectorised
-//! membership evaluations). With a bearing: O(cells) scalar angle-set
-//! intersections.
+//! membership evaluations). With a bearing: O(cells) angle-set
+//! intersections, written branch-free (every case computed, one selected)
+//! so that they vectorise with `atan2` and the range factor; blocks of cells
+//! whose headings are all unknown skip the intersection. Inputs outside the
+//! ranges that path assumes (a bearing beyond ±π, a heading centre outside
+//! [−π, π], an observation set as wide as the circle) take the scalar path
+//! row by row; both give the same floats (unit-tested).
 //!
 //! # Example
 //!
@@ -37,6 +42,7 @@
 //! assert!(g.possibility(c, r) < 0.2);
 //! ```
 
+use super::cells::raw_max;
 use super::{Combine, FuzzyGrid, GridError, Trapezoid};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::{FRAC_PI_2, PI};
@@ -155,6 +161,47 @@ fn to_col(v: f32, lo: usize, hi: usize) -> usize {
     }
 }
 
+/// Columns of a row at vertical distance `dy` from the landmark where the
+/// range trapezoid (support radii `r_in..r_out` around the landmark at `lx`)
+/// can be above its bias: `c_lo..c_hi` minus the hole `h_lo..h_hi`
+/// (`h_lo = h_hi` when the row misses the hole). Cells outside get exactly
+/// the bias; the bounds carry a cell of margin for rounding.
+#[allow(clippy::too_many_arguments)]
+fn annulus_cols(
+    x0: f32,
+    s: f32,
+    nx: usize,
+    lx: f32,
+    dy: f32,
+    r_out: f32,
+    r_in: f32,
+) -> (usize, usize, usize, usize) {
+    let col_of = |x: f32| (x - x0) / s - 0.5; // fractional column of a centre
+    let ox = (r_out * r_out - dy * dy).max(0.0).sqrt();
+    // Column bounds are clamped as floats, so huge readings cannot overflow
+    // an integer.
+    let c_lo = to_col(col_of(lx - ox).floor() - 1.0, 0, nx);
+    let c_hi = to_col(col_of(lx + ox).ceil() + 2.0, 0, nx); // exclusive
+                                                            // The hole of the annulus (cells certainly closer than r_in).
+    let (mut h_lo, mut h_hi) = (c_lo, c_lo);
+    if dy.abs() < r_in {
+        let ix = (r_in * r_in - dy * dy).max(0.0).sqrt();
+        let a = to_col(col_of(lx - ix).ceil() + 1.0, c_lo, c_hi);
+        let b = to_col(col_of(lx + ix).floor(), a, c_hi);
+        (h_lo, h_hi) = (a, b);
+    }
+    (c_lo, c_hi, h_lo, h_hi)
+}
+
+/// A column index as a float, through `i32`: the same value as `c as f32`
+/// (columns are far below 2³¹), but SSE2 converts 32-bit integers four at a
+/// time and 64-bit ones only one by one, which kept the per-cell loops from
+/// vectorising well.
+#[inline(always)]
+fn col_f(c: usize) -> f32 {
+    c as i32 as f32
+}
+
 /// What [`ring`] needs to evaluate the range membership of a cell.
 struct Ring {
     /// Left edge of the grid and landmark x (metres).
@@ -166,33 +213,39 @@ struct Ring {
     t: Trapezoid,
 }
 
-/// Combines cells `first..first + row.len()` of a row (at squared vertical
-/// distance `dy2` from the landmark) with the range membership. Written
+/// Membership of a distance `dist` in the range trapezoid `t`: the value of
+/// [`Trapezoid::linear`], NaN distance giving the bias as there, but written
 /// branch-free (selects, no `f32::max`/`min`, whose NaN rules block SIMD) so
-/// that the loop vectorises, sqrt included; the value is
-/// [`Trapezoid::linear`]'s, NaN distance giving the bias as there.
-#[inline]
-fn ring(row: &mut [f32], first: usize, k: &Ring, dy2: f32, combine: Combine) {
-    let t = k.t;
+/// that loops calling it vectorise, sqrt included.
+#[inline(always)]
+fn range_member(t: &Trapezoid, dist: f32) -> f32 {
     let half = 0.5 * t.core;
     let end = half + t.slope;
     let has_flank = t.slope > 0.0;
     let slope = if has_flank { t.slope } else { 1.0 };
+    let u = (dist - t.center).abs();
+    let flank = 1.0 - (u - half) / slope;
+    let flank = if has_flank && u < end { flank } else { 0.0 };
+    let v = if u <= half {
+        t.height
+    } else {
+        t.height * flank
+    };
+    if v > t.bias {
+        v
+    } else {
+        t.bias
+    }
+}
+
+/// Combines cells `first..first + row.len()` of a row (at squared vertical
+/// distance `dy2` from the landmark) with the range membership
+/// ([`range_member`], branch-free so that the loop vectorises).
+#[inline]
+fn ring(row: &mut [f32], first: usize, k: &Ring, dy2: f32, combine: Combine) {
     let member = |c: usize| {
-        let dx = k.x0 + (c as f32 + 0.5) * k.s - k.lx;
-        let u = ((dx * dx + dy2).sqrt() - t.center).abs();
-        let flank = 1.0 - (u - half) / slope;
-        let flank = if has_flank && u < end { flank } else { 0.0 };
-        let v = if u <= half {
-            t.height
-        } else {
-            t.height * flank
-        };
-        if v > t.bias {
-            v
-        } else {
-            t.bias
-        }
+        let dx = k.x0 + (col_f(c) + 0.5) * k.s - k.lx;
+        range_member(&k.t, (dx * dx + dy2).sqrt())
     };
     match combine {
         Combine::Product => {
@@ -206,6 +259,211 @@ fn ring(row: &mut [f32], first: usize, k: &Ring, dy2: f32, combine: Combine) {
                 *v = if f < *v { f } else { *v };
             }
         }
+    }
+}
+
+/// `fast_atan2` written with selects only, so that a loop calling it
+/// vectorises; same operations in the same order, hence the same floats.
+#[inline(always)]
+fn atan2_sel(y: f32, x: f32) -> f32 {
+    let ax = x.abs();
+    let ay = y.abs();
+    let swap = ay > ax;
+    let num = if swap { ax } else { ay };
+    let den = if swap { ay } else { ax };
+    let z = num / if den == 0.0 { 1.0 } else { den };
+    let z2 = z * z;
+    let a = z
+        * (0.999_977_3
+            + z2 * (-0.332_623_5
+                + z2 * (0.193_543_5
+                    + z2 * (-0.116_432_9 + z2 * (0.052_653_3 + z2 * -0.011_721_2)))));
+    let a = if swap { FRAC_PI_2 - a } else { a };
+    let a = if x < 0.0 { PI - a } else { a };
+    let a = if y < 0.0 { -a } else { a };
+    if den == 0.0 {
+        0.0
+    } else {
+        a
+    }
+}
+
+/// [`super::wrap_pi`] for `a` in (−3π, 3π], with selects: there it takes the
+/// same two branches and gives the same floats.
+#[inline(always)]
+fn wrap_near(a: f32) -> f32 {
+    let a = if a > PI { a - 2.0 * PI } else { a };
+    if a <= -PI {
+        a + 2.0 * PI
+    } else {
+        a
+    }
+}
+
+#[inline(always)]
+fn fmin(a: f32, b: f32) -> f32 {
+    if b < a {
+        b
+    } else {
+        a
+    }
+}
+
+#[inline(always)]
+fn fmax(a: f32, b: f32) -> f32 {
+    if b > a {
+        b
+    } else {
+        a
+    }
+}
+
+/// Width clamp of [`Trapezoid::new`]: ≥ 0, non-finite → 0.
+#[inline(always)]
+fn nonneg(v: f32) -> f32 {
+    if v.abs() < f32::INFINITY {
+        fmax(v, 0.0)
+    } else {
+        0.0
+    }
+}
+
+/// `v` combined with the factor `f`: product, or minimum when `MIN` (a
+/// select: `f32::min`'s NaN rule blocks SIMD).
+#[inline(always)]
+fn combine_with<const MIN: bool>(v: f32, f: f32) -> f32 {
+    if MIN {
+        if f < v {
+            f
+        } else {
+            v
+        }
+    } else {
+        v * f
+    }
+}
+
+/// Cells per block of the bearing pass's intersection sweep: one SSE2
+/// vector. Blocks of 8 skipped fewer cells and left up to 7 cells a row to
+/// the full path, which made a 20×30 update slower than the scalar code.
+const LANES: usize = 4;
+
+/// The observation's angle set without its centre, and its precomputed half
+/// widths; height 1 (as [`super::SensorModel::around`] builds it).
+#[derive(Clone, Copy)]
+struct ObsSet {
+    core: f32,
+    slope: f32,
+    bias: f32,
+    /// Half width of the support, `core/2 + slope` (< π: see
+    /// [`FuzzyGrid::bearing_pass`]).
+    w0: f32,
+}
+
+/// One cell of the bearing update, branch-free: the heading set
+/// `(theta, delta, alpha, bias)` (height 1) intersected with the
+/// observation's set centred on `oc`, and the consistency of the two. It is
+/// [`Trapezoid::intersect_with_consistency`] specialised to two sets of
+/// height 1 whose observation support is narrower than the circle, every
+/// branch turned into a select (both sides are computed), operation for
+/// operation, so the floats are the same; the caller guarantees the ranges
+/// under which [`wrap_near`] equals `wrap_pi`. A cell whose heading is
+/// unknown (`delta ≥ 2π`) takes the observation's set with consistency 1.
+/// Returns `(theta, delta, alpha, bias, consistency)`.
+#[inline(always)]
+fn bearing_cell(
+    theta: f32,
+    delta: f32,
+    alpha: f32,
+    ba: f32,
+    oc: f32,
+    o: ObsSet,
+) -> (f32, f32, f32, f32, f32) {
+    let d = wrap_near(oc - theta);
+    let ad = d.abs();
+    // Overlap level t (`Trapezoid::overlap_level_at`, heights 1).
+    let wa_raw = 0.5 * delta + alpha;
+    let wa_inf = wa_raw >= PI;
+    // Cell support covers the circle: level where its cut still does.
+    let hw1 = 0.5 * delta + alpha * 0.0;
+    let lvl_raw = 1.0 - (PI - 0.5 * delta) / if alpha > 0.0 { alpha } else { 1.0 };
+    let lvl_raw = fmax(fmin(lvl_raw, 1.0), 0.0);
+    let la = if hw1 >= PI || alpha <= 0.0 {
+        1.0
+    } else {
+        lvl_raw
+    };
+    let t_inf = fmax(fmin(fmin(la, 1.0), 1.0), 0.0);
+    let reach = wa_raw + o.w0 - ad;
+    let rate = alpha + o.slope;
+    let cores = 0.5 * (delta + o.core) - ad;
+    let by_rate = fmax(fmin(reach / if rate > 0.0 { rate } else { 1.0 }, 1.0), 0.0);
+    let t_fin = if reach < 0.0 {
+        0.0
+    } else if cores >= 0.0 {
+        1.0
+    } else if rate > 0.0 {
+        by_rate
+    } else {
+        0.0
+    };
+    let t = if wa_inf { t_inf } else { t_fin };
+    let cons = fmax(
+        fmax(fmax(t, fmin(ba, o.bias)), fmin(ba, 1.0)),
+        fmin(1.0, o.bias),
+    );
+    // Overlapping (`t > 0`): inner envelope.
+    let inf_if = |w: f32| if w >= PI { f32::INFINITY } else { w };
+    let ha_t = inf_if(0.5 * delta + alpha * (1.0 - t));
+    let hb_t = inf_if(0.5 * o.core + o.slope * (1.0 - t));
+    let wa = inf_if(wa_raw);
+    let c_lo = fmax(0.0 - ha_t, d - hb_t);
+    let c_hi = fmin(0.0 + ha_t, d + hb_t);
+    let s_lo = fmax(0.0 - wa, d - o.w0);
+    let s_hi = fmin(0.0 + wa, d + o.w0);
+    let c_hi = fmax(c_hi, c_lo);
+    let fl_in = fmax(fmin(c_lo - s_lo, s_hi - c_hi), 0.0);
+    let fl_in = if fl_in.abs() < f32::INFINITY {
+        fl_in
+    } else {
+        2.0 * PI
+    };
+    // Disjoint (`t = 0`): outer envelope.
+    let wa2 = 0.5 * delta;
+    let wb2 = 0.5 * o.core;
+    let e_lo = fmin(-wa2, d - wb2);
+    let e_hi = fmax(wa2, d + wb2);
+    let es_lo = fmin(-wa2 - alpha, d - wb2 - o.slope);
+    let es_hi = fmax(wa2 + alpha, d + wb2 + o.slope);
+    let fl_out = fmax(fmax(e_lo - es_lo, es_hi - e_hi), 0.0);
+    let inner = t > 0.0;
+    let (lo, hi, fl) = if inner {
+        (c_lo, c_hi, fl_in)
+    } else {
+        (e_lo, e_hi, fl_out)
+    };
+    let bias = if inner {
+        ba * o.bias
+    } else {
+        1.0 - (1.0 - ba) * (1.0 - o.bias)
+    };
+    let center = wrap_near(theta + 0.5 * (lo + hi));
+    let center = if center.abs() < f32::INFINITY {
+        center
+    } else {
+        0.0
+    };
+    let n_delta = nonneg(fmin(hi - lo, 2.0 * PI));
+    let n_alpha = nonneg(fmin(fl, 2.0 * PI));
+    let n_bias = if bias.abs() < f32::INFINITY {
+        fmax(fmin(bias, 1.0), 0.0)
+    } else {
+        0.0
+    };
+    if delta >= 2.0 * PI {
+        (oc, o.core, o.slope, ba * o.bias, 1.0)
+    } else {
+        (center, n_delta, n_alpha, n_bias, cons)
     }
 }
 
@@ -262,16 +520,16 @@ impl FuzzyGrid {
     pub fn update_range(&mut self, lx: f32, ly: f32, r: f32) -> Result<f32, GridError> {
         Self::check_obs((lx, ly), Some(r), None)?;
         self.apply_pending();
-        self.range_pass(lx, ly, r);
-        Ok(self.finish_update())
+        let raw = self.range_pass(lx, ly, r);
+        Ok(self.finish_update_from(raw))
     }
 
     /// Updates with a bearing reading only (needs the heading sets).
     pub fn update_bearing(&mut self, lx: f32, ly: f32, bearing: f32) -> Result<f32, GridError> {
         Self::check_obs((lx, ly), None, Some(bearing))?;
         self.apply_pending();
-        self.bearing_pass(lx, ly, None, bearing);
-        Ok(self.finish_update())
+        let raw = self.bearing_pass(lx, ly, None, bearing);
+        Ok(self.finish_update_from(raw))
     }
 
     /// Updates with range and bearing of the same sighting; the two factors are
@@ -285,8 +543,8 @@ impl FuzzyGrid {
     ) -> Result<f32, GridError> {
         Self::check_obs((lx, ly), Some(r), Some(bearing))?;
         self.apply_pending();
-        self.bearing_pass(lx, ly, Some(r), bearing);
-        Ok(self.finish_update())
+        let raw = self.bearing_pass(lx, ly, Some(r), bearing);
+        Ok(self.finish_update_from(raw))
     }
 
     /// Updates with an [`Observation`] of a landmark from `table`.
@@ -314,7 +572,10 @@ impl FuzzyGrid {
         }
     }
 
-    fn range_pass(&mut self, lx: f32, ly: f32, r: f32) {
+    /// Combines the plane with the range reading; returns its
+    /// [`super::cells::raw_max`], measured row by row while each row is in
+    /// cache, for [`FuzzyGrid::finish_update_from`].
+    fn range_pass(&mut self, lx: f32, ly: f32, r: f32) -> f32 {
         let t = self.cfg.range.around(r);
         let w = 0.5 * t.core + t.slope;
         let r_out = r + w;
@@ -326,34 +587,23 @@ impl FuzzyGrid {
             Combine::Product => row.iter_mut().for_each(|v| *v *= bias),
             Combine::Min => row.iter_mut().for_each(|v| *v = v.min(bias)),
         };
-        let col_of = |x: f32| (x - self.x0) / s - 0.5; // fractional column of a centre
         let ring_ctx = Ring {
             x0: self.x0,
             lx,
             s,
             t,
         };
+        let mut raw = 0.0f32;
         for j in 0..self.ny {
             let y = self.y0 + (j as f32 + 0.5) * s;
             let dy = y - ly;
             let row = &mut self.h[j * self.nx..(j + 1) * self.nx];
             if dy.abs() > r_out {
                 outside(row);
+                raw = raw.max(raw_max(row));
                 continue;
             }
-            let ox = (r_out * r_out - dy * dy).max(0.0).sqrt();
-            // Column bounds are clamped as floats, so huge readings cannot
-            // overflow an integer.
-            let c_lo = to_col(col_of(lx - ox).floor() - 1.0, 0, self.nx);
-            let c_hi = to_col(col_of(lx + ox).ceil() + 2.0, 0, self.nx); // exclusive
-                                                                         // The hole of the annulus (cells certainly closer than r_in).
-            let (mut h_lo, mut h_hi) = (c_lo, c_lo);
-            if dy.abs() < r_in {
-                let ix = (r_in * r_in - dy * dy).max(0.0).sqrt();
-                let a = to_col(col_of(lx - ix).ceil() + 1.0, c_lo, c_hi);
-                let b = to_col(col_of(lx + ix).floor(), a, c_hi);
-                (h_lo, h_hi) = (a, b);
-            }
+            let (c_lo, c_hi, h_lo, h_hi) = annulus_cols(self.x0, s, self.nx, lx, dy, r_out, r_in);
             outside(&mut row[..c_lo]);
             outside(&mut row[c_hi..]);
             outside(&mut row[h_lo..h_hi]);
@@ -365,61 +615,222 @@ impl FuzzyGrid {
                     ring(&mut row[a..b], a, &ring_ctx, dy2, combine);
                 }
             }
+            raw = raw.max(raw_max(row));
+        }
+        raw
+    }
+
+    /// Combines the plane and the heading sets with the bearing (and range)
+    /// reading; returns the plane's [`super::cells::raw_max`], measured row
+    /// by row, for [`FuzzyGrid::finish_update_from`].
+    fn bearing_pass(&mut self, lx: f32, ly: f32, range: Option<f32>, bearing: f32) -> f32 {
+        let rt = range.map(|r| self.cfg.range.around(r));
+        let obs = self.cfg.bearing.around(0.0);
+        let o = ObsSet {
+            core: obs.core,
+            slope: obs.slope,
+            bias: obs.bias,
+            w0: 0.5 * obs.core + obs.slope * 1.0,
+        };
+        // The branch-free path assumes what keeps every angle it wraps in
+        // (−3π, 3π] and the observation's support off the full circle; any
+        // other input (rare: configured or user-set) takes the scalar path.
+        let fast = bearing.abs() <= PI && o.w0 < PI;
+        let combine = self.cfg.combine;
+        let mut raw = 0.0f32;
+        for j in 0..self.ny {
+            let lo = j * self.nx;
+            let hi = lo + self.nx;
+            let thetas = &self.theta[lo..hi];
+            // Branch-free reduction, so the check itself vectorises.
+            let in_range = thetas.iter().fold(true, |ok, &t| ok & (t.abs() <= PI));
+            if !(fast && in_range) {
+                self.bearing_row_scalar(j, lx, ly, rt, bearing);
+                raw = raw.max(raw_max(&self.h[lo..hi]));
+                continue;
+            }
+            match (rt, combine) {
+                (Some(t), Combine::Product) => {
+                    self.bearing_row::<true, false>(j, lx, ly, t, bearing, o)
+                }
+                (Some(t), Combine::Min) => self.bearing_row::<true, true>(j, lx, ly, t, bearing, o),
+                (None, Combine::Product) => {
+                    self.bearing_row::<false, false>(j, lx, ly, obs, bearing, o)
+                }
+                (None, Combine::Min) => self.bearing_row::<false, true>(j, lx, ly, obs, bearing, o),
+            }
+            raw = raw.max(raw_max(&self.h[lo..hi]));
+        }
+        raw
+    }
+
+    /// Row `j` of the bearing pass, every cell through the branch-free
+    /// [`bearing_cell`] (and [`range_member`] when `RANGE`), so the loops
+    /// vectorise, atan2 included. `MIN` selects [`Combine::Min`].
+    ///
+    /// Two sweeps keep few values live at once (one sweep spilled most of
+    /// them): the first writes each cell's observed heading and range factor
+    /// to the line buffers, the second intersects. The second goes by blocks
+    /// of [`LANES`] cells and gives a block whose headings are all unknown
+    /// (`Δ ≥ 2π`: most of a grid after a few products, see
+    /// [`FuzzyGrid::finish_update`]'s floor) the observation's set directly,
+    /// which is what [`bearing_cell`] would select for it.
+    #[inline(never)]
+    fn bearing_row<const RANGE: bool, const MIN: bool>(
+        &mut self,
+        j: usize,
+        lx: f32,
+        ly: f32,
+        rt: Trapezoid,
+        bearing: f32,
+        o: ObsSet,
+    ) {
+        let s = self.cell;
+        let x0 = self.x0;
+        let y = self.y0 + (j as f32 + 0.5) * s;
+        let dy = ly - y;
+        let n = self.nx;
+        let lo = j * n;
+        let FuzzyGrid {
+            h,
+            theta,
+            delta,
+            alpha,
+            bias,
+            line,
+            line_out,
+            ..
+        } = self;
+        let hs = &mut h[lo..lo + n];
+        let ts = &mut theta[lo..lo + n];
+        let ds = &mut delta[lo..lo + n];
+        let als = &mut alpha[lo..lo + n];
+        let bs = &mut bias[lo..lo + n];
+        let ocs = &mut line[..n];
+        let fs = &mut line_out[..n];
+        for (c, oc) in ocs.iter_mut().enumerate() {
+            let dx = lx - (x0 + (col_f(c) + 0.5) * s);
+            *oc = wrap_near(atan2_sel(dy, dx) - bearing);
+        }
+        if RANGE {
+            // The range factor is exactly the bias outside the annulus (as
+            // in `range_pass`): evaluate it only on the annulus.
+            let w = 0.5 * rt.core + rt.slope;
+            let r_out = rt.center + w;
+            let r_in = (rt.center - w).max(0.0);
+            fs.fill(rt.bias);
+            if dy.abs() <= r_out {
+                let (c_lo, c_hi, h_lo, h_hi) = annulus_cols(x0, s, n, lx, dy, r_out, r_in);
+                for (a, b) in [(c_lo, h_lo), (h_hi, c_hi)] {
+                    for (c, f) in fs[a..b].iter_mut().enumerate() {
+                        let dx = lx - (x0 + (col_f(a + c) + 0.5) * s);
+                        *f = range_member(&rt, (dx * dx + dy * dy).sqrt());
+                    }
+                }
+            }
+        } else {
+            fs.fill(1.0);
+        }
+        let full = n - n % LANES;
+        for b0 in (0..full).step_by(LANES) {
+            let r = b0..b0 + LANES;
+            // Fixed-size blocks: constant trip counts, no bounds checks.
+            let hs: &mut [f32; LANES] = (&mut hs[r.clone()]).try_into().unwrap();
+            let ts: &mut [f32; LANES] = (&mut ts[r.clone()]).try_into().unwrap();
+            let ds: &mut [f32; LANES] = (&mut ds[r.clone()]).try_into().unwrap();
+            let als: &mut [f32; LANES] = (&mut als[r.clone()]).try_into().unwrap();
+            let bs: &mut [f32; LANES] = (&mut bs[r.clone()]).try_into().unwrap();
+            let ocs: &[f32; LANES] = (&ocs[r.clone()]).try_into().unwrap();
+            let fs: &[f32; LANES] = (&fs[r]).try_into().unwrap();
+            let unknown = ds.iter().fold(true, |u, &d| u & (d >= 2.0 * PI));
+            if unknown {
+                for i in 0..LANES {
+                    ts[i] = ocs[i];
+                    ds[i] = o.core;
+                    als[i] = o.slope;
+                    bs[i] *= o.bias;
+                    hs[i] = combine_with::<MIN>(hs[i], fs[i]);
+                }
+            } else {
+                for i in 0..LANES {
+                    let (nt, nd, na, nb, cons) =
+                        bearing_cell(ts[i], ds[i], als[i], bs[i], ocs[i], o);
+                    ts[i] = nt;
+                    ds[i] = nd;
+                    als[i] = na;
+                    bs[i] = nb;
+                    hs[i] = combine_with::<MIN>(hs[i], fs[i] * cons);
+                }
+            }
+        }
+        for i in full..n {
+            let (nt, nd, na, nb, cons) = bearing_cell(ts[i], ds[i], als[i], bs[i], ocs[i], o);
+            ts[i] = nt;
+            ds[i] = nd;
+            als[i] = na;
+            bs[i] = nb;
+            hs[i] = combine_with::<MIN>(hs[i], fs[i] * cons);
         }
     }
 
-    fn bearing_pass(&mut self, lx: f32, ly: f32, range: Option<f32>, bearing: f32) {
-        let rt = range.map(|r| self.cfg.range.around(r));
+    /// Row `j` of the bearing pass in plain scalar code, for the inputs the
+    /// branch-free row does not cover.
+    fn bearing_row_scalar(
+        &mut self,
+        j: usize,
+        lx: f32,
+        ly: f32,
+        rt: Option<Trapezoid>,
+        bearing: f32,
+    ) {
         let obs = self.cfg.bearing.around(0.0);
         let s = self.cell;
         let combine = self.cfg.combine;
-        for j in 0..self.ny {
-            let y = self.y0 + (j as f32 + 0.5) * s;
-            let dy = ly - y;
-            let base = j * self.nx;
-            for c in 0..self.nx {
-                let i = base + c;
-                let dx = lx - (self.x0 + (c as f32 + 0.5) * s);
-                let mut f = match rt {
-                    Some(t) => t.linear((dx * dx + dy * dy).sqrt()),
-                    None => 1.0,
-                };
-                let mut o = obs;
-                o.center = super::wrap_pi(fast_atan2(dy, dx) - bearing);
-                if self.delta[i] >= 2.0 * PI {
-                    // Heading unknown: the intersection is the observation's
-                    // set and the consistency is 1 (exactly what
-                    // `intersect_angle` gives, without its work).
-                    self.theta[i] = o.center;
-                    self.delta[i] = o.core;
-                    self.alpha[i] = o.slope;
-                    self.bias[i] *= o.bias;
-                    let v = &mut self.h[i];
-                    *v = match combine {
-                        Combine::Product => *v * f,
-                        Combine::Min => v.min(f),
-                    };
-                    continue;
-                }
-                let a = Trapezoid {
-                    center: self.theta[i],
-                    core: self.delta[i],
-                    slope: self.alpha[i],
-                    height: 1.0,
-                    bias: self.bias[i],
-                };
-                let (n, cons) = a.intersect_with_consistency(&o);
-                f *= cons;
-                self.theta[i] = n.center;
-                self.delta[i] = n.core;
-                self.alpha[i] = n.slope;
-                self.bias[i] = n.bias;
+        let y = self.y0 + (j as f32 + 0.5) * s;
+        let dy = ly - y;
+        let base = j * self.nx;
+        for c in 0..self.nx {
+            let i = base + c;
+            let dx = lx - (self.x0 + (c as f32 + 0.5) * s);
+            let mut f = match rt {
+                Some(t) => t.linear((dx * dx + dy * dy).sqrt()),
+                None => 1.0,
+            };
+            let mut o = obs;
+            o.center = super::wrap_pi(fast_atan2(dy, dx) - bearing);
+            if self.delta[i] >= 2.0 * PI {
+                // Heading unknown: the intersection is the observation's
+                // set and the consistency is 1 (exactly what
+                // `intersect_angle` gives, without its work).
+                self.theta[i] = o.center;
+                self.delta[i] = o.core;
+                self.alpha[i] = o.slope;
+                self.bias[i] *= o.bias;
                 let v = &mut self.h[i];
                 *v = match combine {
                     Combine::Product => *v * f,
                     Combine::Min => v.min(f),
                 };
+                continue;
             }
+            let a = Trapezoid {
+                center: self.theta[i],
+                core: self.delta[i],
+                slope: self.alpha[i],
+                height: 1.0,
+                bias: self.bias[i],
+            };
+            let (n, cons) = a.intersect_with_consistency(&o);
+            f *= cons;
+            self.theta[i] = n.center;
+            self.delta[i] = n.core;
+            self.alpha[i] = n.slope;
+            self.bias[i] = n.bias;
+            let v = &mut self.h[i];
+            *v = match combine {
+                Combine::Product => *v * f,
+                Combine::Min => v.min(f),
+            };
         }
     }
 }
@@ -427,6 +838,75 @@ impl FuzzyGrid {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The branch-free bearing rows must give the scalar rows' floats on
+    /// every kind of heading set: unknown, wide enough that its support
+    /// covers the circle, rectangles (no flank), disjoint and overlapping.
+    #[test]
+    fn branch_free_bearing_rows_match_scalar() {
+        use crate::grid::{Combine, GridConfig};
+        let mut seed = 987_654_321u32;
+        let mut rnd = move || {
+            seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        for combine in [Combine::Product, Combine::Min] {
+            for round in 0..6 {
+                let cfg = GridConfig {
+                    combine,
+                    ..GridConfig::default()
+                };
+                let mut g = FuzzyGrid::new(cfg, [0.0, 0.0, 2.3, 1.7]).unwrap();
+                for j in 0..g.ny() {
+                    for i in 0..g.nx() {
+                        let kind = (rnd() * 5.0) as u32;
+                        let delta = match kind {
+                            0 => 2.0 * PI,
+                            1 => 2.0 * PI * rnd(),
+                            2 => 4.0 + 2.0 * rnd(),
+                            _ => 0.6 * rnd(),
+                        };
+                        let alpha = if rnd() < 0.2 {
+                            0.0
+                        } else {
+                            3.0 * rnd() * rnd()
+                        };
+                        let t = Trapezoid::new(PI * (2.0 * rnd() - 1.0), delta, alpha, 1.0, rnd());
+                        g.set_heading_set(i, j, t);
+                        let nx = g.nx();
+                        g.possibilities_mut()[j * nx + i] = rnd();
+                    }
+                }
+                let (lx, ly) = (3.0 * rnd() - 0.5, 3.0 * rnd() - 0.5);
+                let bearing = PI * (2.0 * rnd() - 1.0);
+                let range = if round % 2 == 0 {
+                    Some(2.0 * rnd())
+                } else {
+                    None
+                };
+                let mut a = g.clone();
+                a.bearing_pass(lx, ly, range, bearing);
+                let rt = range.map(|r| g.cfg.range.around(r));
+                for j in 0..g.ny() {
+                    g.bearing_row_scalar(j, lx, ly, rt, bearing);
+                }
+                let planes = |x: &FuzzyGrid| {
+                    [
+                        x.h.clone(),
+                        x.theta.clone(),
+                        x.delta.clone(),
+                        x.alpha.clone(),
+                        x.bias.clone(),
+                    ]
+                };
+                for (pa, pb) in planes(&a).iter().zip(planes(&g).iter()) {
+                    for (i, (u, v)) in pa.iter().zip(pb).enumerate() {
+                        assert!(u == v, "cell {i}: {u} vs {v} ({combine:?}, round {round})");
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn fast_atan2_matches_std() {
