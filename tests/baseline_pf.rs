@@ -7,7 +7,7 @@ mod baseline_sim;
 use baseline_sim::{table, BOUNDS};
 use lplace::baseline::pf::{apply_motion, low_variance_resample, wheel_increment, Injection};
 use lplace::baseline::{BaselineError, ParticleFilter, PfConfig};
-use lplace::grid::{Motion, Observation};
+use lplace::grid::{GridError, Motion, Observation};
 use lplace::io::mrclam::Pose2;
 use lplace::localize::{drive, Kidnap, Localizer, Recovery, RunOptions};
 use proptest::prelude::*;
@@ -183,7 +183,7 @@ proptest! {
         let r = pf.predict(&m);
         prop_assert_eq!(r.is_err(), bad);
         if bad {
-            let is_bad_motion = matches!(r, Err(BaselineError::BadMotion { .. }));
+            let is_bad_motion = matches!(r, Err(BaselineError::Grid(GridError::BadMotion { .. })));
             prop_assert!(is_bad_motion);
             let after: Vec<_> = pf.particles().collect();
             prop_assert_eq!(before, after);

@@ -58,41 +58,10 @@ pub enum BaselineError {
     /// The extent is not `x_min < x_max`, `y_min < y_max`, all finite.
     #[error("bad bounds {0:?}: need finite x_min < x_max, y_min < y_max")]
     BadBounds([f32; 4]),
-    /// A reading value is NaN or infinite.
-    #[error("non-finite {what} in observation of landmark {landmark}: {value}")]
-    NonFinite {
-        /// `"range"` or `"bearing"`.
-        what: &'static str,
-        /// Landmark id.
-        landmark: u32,
-        /// The rejected value.
-        value: f32,
-    },
-    /// A range reading is negative.
-    #[error("negative range {range} to landmark {landmark}")]
-    NegativeRange {
-        /// Landmark id.
-        landmark: u32,
-        /// The rejected value.
-        range: f32,
-    },
-    /// The observed landmark is not in the table.
-    #[error("unknown landmark {0}")]
-    UnknownLandmark(u32),
-    /// A motion increment is non-finite or has a negative duration.
-    #[error("bad motion increment ({forward}, {lateral}, {turn}, dt {dt})")]
-    BadMotion {
-        /// Forward displacement.
-        forward: f32,
-        /// Lateral displacement.
-        lateral: f32,
-        /// Rotation.
-        turn: f32,
-        /// Elapsed time.
-        dt: f32,
-    },
-    /// The grid stage (R-MCL) rejected something.
-    #[error("grid stage: {0}")]
+    /// A rejected reading or motion — the input checks every localizer shares
+    /// ([`Observation::check`], [`Motion::check`], an unknown landmark) — or an error of
+    /// R-MCL's grid stage.
+    #[error("{0}")]
     Grid(#[from] GridError),
 }
 
@@ -104,22 +73,9 @@ pub(crate) fn check_bounds(b: [f32; 4]) -> Result<(), BaselineError> {
     Ok(())
 }
 
-/// Checks a motion increment: finite, `dt ≥ 0`.
+/// Checks a motion increment: finite, `dt ≥ 0` ([`Motion::check`]).
 pub(crate) fn check_motion(m: &Motion) -> Result<(), BaselineError> {
-    let ok = [m.forward, m.lateral, m.turn, m.dt]
-        .iter()
-        .all(|v| v.is_finite())
-        && m.dt >= 0.0;
-    if ok {
-        Ok(())
-    } else {
-        Err(BaselineError::BadMotion {
-            forward: m.forward,
-            lateral: m.lateral,
-            turn: m.turn,
-            dt: m.dt,
-        })
-    }
+    Ok(m.check()?)
 }
 
 /// A checked reading: landmark position and the finite, non-negative values.
@@ -138,31 +94,8 @@ pub(crate) fn check_observation(
 ) -> Result<Reading, BaselineError> {
     let m = table
         .get(obs.landmark)
-        .ok_or(BaselineError::UnknownLandmark(obs.landmark))?;
-    if let Some(r) = obs.range {
-        if !r.is_finite() {
-            return Err(BaselineError::NonFinite {
-                what: "range",
-                landmark: obs.landmark,
-                value: r,
-            });
-        }
-        if r < 0.0 {
-            return Err(BaselineError::NegativeRange {
-                landmark: obs.landmark,
-                range: r,
-            });
-        }
-    }
-    if let Some(b) = obs.bearing {
-        if !b.is_finite() {
-            return Err(BaselineError::NonFinite {
-                what: "bearing",
-                landmark: obs.landmark,
-                value: b,
-            });
-        }
-    }
+        .ok_or(GridError::UnknownLandmark(obs.landmark))?;
+    obs.check()?;
     Ok(Reading {
         lx: m.x as f64,
         ly: m.y as f64,

@@ -467,6 +467,43 @@ fn bearing_cell(
     }
 }
 
+impl Observation {
+    /// Checks the reading's values — finite, range ≥ 0 — as every localizer must before it
+    /// touches its belief.
+    ///
+    /// # Errors
+    /// [`GridError::NonFinite`] or [`GridError::NegativeRange`], naming the landmark.
+    pub fn check(&self) -> Result<(), GridError> {
+        check_values(self.landmark, self.range, self.bearing)
+    }
+}
+
+/// The value checks of a reading of landmark `landmark` (0 when the caller has no id).
+fn check_values(landmark: u32, range: Option<f32>, bearing: Option<f32>) -> Result<(), GridError> {
+    if let Some(r) = range {
+        if !r.is_finite() {
+            return Err(GridError::NonFinite {
+                what: "range",
+                landmark,
+                value: r,
+            });
+        }
+        if r < 0.0 {
+            return Err(GridError::NegativeRange { landmark, range: r });
+        }
+    }
+    if let Some(b) = bearing {
+        if !b.is_finite() {
+            return Err(GridError::NonFinite {
+                what: "bearing",
+                landmark,
+                value: b,
+            });
+        }
+    }
+    Ok(())
+}
+
 impl FuzzyGrid {
     fn check_obs(
         landmark: (f32, f32),
@@ -487,31 +524,7 @@ impl FuzzyGrid {
                 value: landmark.1,
             });
         }
-        if let Some(r) = range {
-            if !r.is_finite() {
-                return Err(GridError::NonFinite {
-                    what: "range",
-                    landmark: 0,
-                    value: r,
-                });
-            }
-            if r < 0.0 {
-                return Err(GridError::NegativeRange {
-                    landmark: 0,
-                    range: r,
-                });
-            }
-        }
-        if let Some(b) = bearing {
-            if !b.is_finite() {
-                return Err(GridError::NonFinite {
-                    what: "bearing",
-                    landmark: 0,
-                    value: b,
-                });
-            }
-        }
-        Ok(())
+        check_values(0, range, bearing)
     }
 
     /// Updates with a range reading `r` to a landmark at `(lx, ly)`. Returns
@@ -552,22 +565,11 @@ impl FuzzyGrid {
         let m = table
             .get(obs.landmark)
             .ok_or(GridError::UnknownLandmark(obs.landmark))?;
-        let tag = |e: GridError| match e {
-            GridError::NonFinite { what, value, .. } => GridError::NonFinite {
-                what,
-                landmark: obs.landmark,
-                value,
-            },
-            GridError::NegativeRange { range, .. } => GridError::NegativeRange {
-                landmark: obs.landmark,
-                range,
-            },
-            other => other,
-        };
+        obs.check()?;
         match (obs.range, obs.bearing) {
-            (Some(r), Some(b)) => self.update_range_bearing(m.x, m.y, r, b).map_err(tag),
-            (Some(r), None) => self.update_range(m.x, m.y, r).map_err(tag),
-            (None, Some(b)) => self.update_bearing(m.x, m.y, b).map_err(tag),
+            (Some(r), Some(b)) => self.update_range_bearing(m.x, m.y, r, b),
+            (Some(r), None) => self.update_range(m.x, m.y, r),
+            (None, Some(b)) => self.update_bearing(m.x, m.y, b),
             (None, None) => Ok(self.last_height),
         }
     }

@@ -60,6 +60,29 @@ pub struct Motion {
     pub dt: f32,
 }
 
+impl Motion {
+    /// Checks the increment — every value finite, `dt ≥ 0` — as every localizer must before it
+    /// moves its belief.
+    ///
+    /// # Errors
+    /// [`GridError::BadMotion`] carrying the increment.
+    pub fn check(&self) -> Result<(), GridError> {
+        let finite = [self.forward, self.lateral, self.turn, self.dt]
+            .iter()
+            .all(|v| v.is_finite());
+        if finite && self.dt >= 0.0 {
+            Ok(())
+        } else {
+            Err(GridError::BadMotion {
+                forward: self.forward,
+                lateral: self.lateral,
+                turn: self.turn,
+                dt: self.dt,
+            })
+        }
+    }
+}
+
 /// Motion accumulated since the last application.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct Pending {
@@ -84,18 +107,7 @@ impl FuzzyGrid {
     /// Accumulates an odometry increment. Rejects non-finite values and
     /// negative `dt` without changing anything.
     pub fn predict(&mut self, m: &Motion) -> Result<(), GridError> {
-        if ![m.forward, m.lateral, m.turn, m.dt]
-            .iter()
-            .all(|v| v.is_finite())
-            || m.dt < 0.0
-        {
-            return Err(GridError::BadMotion {
-                forward: m.forward,
-                lateral: m.lateral,
-                turn: m.turn,
-                dt: m.dt,
-            });
-        }
+        m.check()?;
         let p = &mut self.pending;
         let (s, c) = p.turn.sin_cos();
         p.px += c * m.forward - s * m.lateral;
