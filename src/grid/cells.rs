@@ -44,10 +44,14 @@ pub struct FuzzyGrid {
     pub(crate) bias: Vec<f32>,
     /// Scratch plane for dilation and shifting (same size as `h`).
     pub(crate) scratch: Vec<f32>,
-    /// Scratch for the 1-D passes: one line of values and a deque of indices.
+    /// Scratch for the 1-D passes: one line of values (room for a padded
+    /// row of dilation blocks), and a deque of indices.
     pub(crate) line: Vec<f32>,
     pub(crate) line_out: Vec<f32>,
     pub(crate) deque: Vec<u32>,
+    /// Chunk maxima and block bounds of the dilation's column and diagonal
+    /// passes.
+    pub(crate) cm: Vec<f32>,
     pub(crate) pending: Pending,
     /// Height of the plane before the last normalisation.
     pub(crate) last_height: f32,
@@ -90,9 +94,10 @@ impl FuzzyGrid {
             alpha: vec![0.0; n],
             bias: vec![1.0; n],
             scratch: vec![0.0; n],
-            line: vec![0.0; longest],
+            line: vec![0.0; longest.max(super::dilate::padded_row(nx))],
             line_out: vec![0.0; longest],
             deque: vec![0; longest],
+            cm: vec![0.0; super::dilate::chunk_len(nx, ny)],
             pending: Pending::default(),
             last_height: 1.0,
         };

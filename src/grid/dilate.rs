@@ -1,6 +1,9 @@
 //! Fuzzy dilation `G ⊕ B (p) = sup_q min(G(q), B(p − q))` (paper 000 eq. (3))
-//! with a trapezoid-profiled octagonal (or square) structuring element, in
-//! time independent of the element's radius.
+//! with a trapezoid-profiled octagonal (or square) structuring element. Long
+//! reaches cost O(1) per cell whatever the radius (deques); short ones
+//! (the usual case) run in vector blocks whose work follows the belief:
+//! nearly independent of the radius on a concentrated belief, growing with
+//! it only where values differ within reach (see below).
 //!
 //! # The element and why it decomposes
 //!
@@ -31,25 +34,47 @@
 //! which only the latest (highest line) matters. Each sample enters and
 //! leaves the deque once: O(n) per line, whatever `c` and `R`.
 //!
-//! # The same pass by levels, row-parallel
+//! # The same pass by offsets, in blocks that stop early
 //!
-//! For offsets `k = 0, 1, …` the element's profile `B(k)` falls while the
-//! running maximum `M_k(x) = max_{|x−y| ≤ k} g(y)` grows, so
-//! `out(x) = max_k min(M_k(x), B(k))` exactly (same floats: only min and
-//! max). Each step raises `M` by two shifted copies of the plane and folds it
-//! into the output: element-wise operations over whole rows, along any of
-//! the four directions (a column or diagonal neighbour of a row is another
-//! row, shifted), so every lane is independent and the loops vectorise. It
-//! costs O(reach) per cell, where the deque costs O(1) but branches on
-//! data; passes reaching at most `LEVEL_MAX` samples (24; the bench's 3 m
-//! cone reaches 13) run by levels, longer ones by deques.
+//! For offsets `k = 0, 1, …` the element's profile `B(k)` falls, so
+//! `out(x) = max_k min(max(g(x − k), g(x + k)), B(k))` (the brute-force
+//! definition, offset by offset; only min and max, so the same floats as the
+//! deque's definition up to its flank rounding, and as the running-maximum
+//! form `max_k min(M_k, B(k))` of the previous code exactly). Along any of
+//! the four directions the neighbours of 16 adjacent cells of a row at
+//! offset `k` are 16 adjacent cells of another row, shifted, so a block of
+//! 16 cells (four SSE2 vectors) takes each offset in a dozen vector
+//! instructions, lane by lane.
 //!
-//! No exact O(1)-per-cell vector form is used: the flank makes each sample's
-//! contribution a trapezoid whose flat width depends on its own value
-//! (`min(g, 1 − d/R)` is flat while `1 − d/R ≥ g`), so the element is not a
-//! translation-invariant max-plus one and the two-pass distance-transform
-//! recurrence does not hold; van Herk/Gil-Werman applies only to the flat
-//! core.
+//! Two exact shortcuts make the work follow the belief rather than the
+//! radius:
+//!
+//! * **A block stops early.** With `u` an upper bound on every value within
+//!   reach of the block, every term at offset `k' ≥ k` is at most
+//!   `min(B(k), u)`; once every lane holds that much, no later offset can
+//!   raise one. A block on a plateau or at its window's maximum stops before
+//!   the first offset, one beside a peak once it has met it (offset = its
+//!   distance to it).
+//! * **A group is left alone.** The plane is tiled in groups of 8 rows × 16
+//!   columns with their maxima and minima. A group whose minimum reaches the
+//!   largest maximum within reach keeps every value (each cell is already
+//!   the maximum within its reach) and is not visited: on a belief mostly
+//!   at the floor, most of the plane. The extrema are measured once per
+//!   dilation and kept up to date pass by pass, for the groups worked on.
+//!
+//! Cost: O(cells) for the extrema, then per block the offsets it needs — at
+//! most the reach `K` (≤ `LEVEL_MAX` = 24 samples; longer passes run by
+//! deques). On a concentrated belief nearly flat in the radius; in the worst
+//! case (values all below the element's lowest level and different
+//! everywhere, so that no lane of a block meets its bound: low noise) every
+//! block runs every offset, O(K · cells) like the previous code.
+//!
+//! No exact O(1)-per-cell vector form is known to us: the flank makes each
+//! sample's contribution a trapezoid whose flat width depends on its own
+//! value (`min(g, 1 − d/R)` is flat while `1 − d/R ≥ g`), so the element is
+//! not a translation-invariant max-plus one and the two-pass
+//! distance-transform recurrence does not hold; van Herk/Gil-Werman applies
+//! only to the flat core (and the bench's elements have none).
 //!
 //! On the grid the diagonal passes move by whole diagonal steps, so the
 //! element actually applied is the *discrete* sup-min sum of the four 1-D
@@ -65,12 +90,14 @@
 //!
 //! # Complexity
 //!
-//! 4 passes (2 for [`ElementShape::Square`]). A pass reaching `k ≤ 24`
-//! samples costs O(k · cells) vector steps (about 0.3 ns per cell and step
-//! on one core); a longer one O(cells) with two deque sweeps (every sample
-//! pushed and popped at most once per sweep, about 7 ns per cell), its
+//! 4 passes (2 for [`ElementShape::Square`]). A pass reaching `K ≤ 24`
+//! samples costs O(cells) for the group extrema plus, for every block not
+//! left alone, the offsets until it stops (≤ `K`, about 40 instructions per
+//! offset per 16 cells); a longer one O(cells) with two deque sweeps (every
+//! sample pushed and popped at most once per sweep, about 7 ns per cell), its
 //! columns and diagonals gathered 16 lines at a time so that each cache line
-//! is fetched once. No allocation (the buffers live in the grid).
+//! is fetched once. No allocation (the buffers live in the grid: a ring of
+//! `K + 1` rows in the scratch plane, a padded row, three values per group).
 //!
 //! # Example
 //!
@@ -106,9 +133,23 @@ use std::f32::consts::{PI, SQRT_2};
 /// fill one 64-byte cache line.
 const BLOCK: usize = 16;
 
-/// Largest reach (samples) for which a pass runs by levels, O(reach) cheap
-/// vector steps per cell; beyond it the O(1)-per-cell deque sweeps win.
+/// Largest reach (samples) for which a pass runs by offsets, at most that
+/// many vector steps per block; beyond it the O(1)-per-cell deque sweeps
+/// bound the worst case.
 const LEVEL_MAX: usize = 24;
+
+/// Length of the line buffer a row of `nx` cells needs in the offset pass:
+/// whole blocks and [`LEVEL_MAX`] zeros on either side.
+pub(crate) fn padded_row(nx: usize) -> usize {
+    nx.div_ceil(LANES) * LANES + 2 * LEVEL_MAX
+}
+
+/// Length of the block-bound buffer of an `nx × ny` grid: three values
+/// (maximum, minimum, bound) per 16-column chunk of every group of
+/// [`GROUP`] rows.
+pub(crate) fn chunk_len(nx: usize, ny: usize) -> usize {
+    3 * nx.div_ceil(LANES) * ny.div_ceil(GROUP)
+}
 
 /// Largest offset `k` (samples) at which the profile is still above 0.
 fn reach(p: Profile) -> usize {
@@ -125,11 +166,200 @@ fn reach(p: Profile) -> usize {
     k
 }
 
-/// `m = max(m, src)` element-wise, written so that it vectorises.
-#[inline]
-fn max_into(m: &mut [f32], src: &[f32]) {
-    for (a, &v) in m.iter_mut().zip(src) {
-        *a = if v > *a { v } else { *a };
+/// Cells per block of the offset passes: four SSE2 vectors, one 64-byte
+/// cache line; a block's exit test is one branch for all of them.
+const LANES: usize = 16;
+
+/// Four lanes: the operations on it are written lane by lane on
+/// `[f32; 4]`, the shape LLVM turns into one SSE2 instruction each.
+type V = [f32; 4];
+
+/// One block of lanes, as four vectors.
+type Block = [V; 4];
+
+/// A block outside the grid.
+const ZERO: Block = [[0.0; 4]; 4];
+
+/// Band rows per group of the band passes' block bounds.
+const GROUP: usize = 8;
+
+/// The element's levels `b[k] = B(k)` for `k = 0..=K`, `K` the reach capped
+/// at `cap − 1` (offsets beyond a line's length reach no cell), on the
+/// stack; returns them and `K` (≤ [`LEVEL_MAX`]).
+fn levels(p: Profile, cap: usize) -> ([f32; LEVEL_MAX + 1], usize) {
+    let k = reach(p).min(cap.saturating_sub(1)).min(LEVEL_MAX);
+    let mut b = [0.0; LEVEL_MAX + 1];
+    for (i, v) in b.iter_mut().enumerate().take(k + 1) {
+        *v = p.at(i as f32);
+    }
+    (b, k)
+}
+
+/// `max(a, b)` as a select (`f32::max`'s NaN rule blocks SIMD).
+#[inline(always)]
+fn fmax(a: f32, b: f32) -> f32 {
+    if b > a {
+        b
+    } else {
+        a
+    }
+}
+
+/// `min(a, b)` as a select.
+#[inline(always)]
+fn fmin(a: f32, b: f32) -> f32 {
+    if b < a {
+        b
+    } else {
+        a
+    }
+}
+
+#[inline(always)]
+fn vmax(a: V, b: V) -> V {
+    [
+        fmax(a[0], b[0]),
+        fmax(a[1], b[1]),
+        fmax(a[2], b[2]),
+        fmax(a[3], b[3]),
+    ]
+}
+
+#[inline(always)]
+fn vmin(a: V, b: V) -> V {
+    [
+        fmin(a[0], b[0]),
+        fmin(a[1], b[1]),
+        fmin(a[2], b[2]),
+        fmin(a[3], b[3]),
+    ]
+}
+
+/// The block of `v` starting at `at`.
+#[inline(always)]
+fn load(v: &[f32], at: usize) -> Block {
+    let s: &[f32; LANES] = v[at..at + LANES]
+        .try_into()
+        .expect("a slice of LANES values");
+    let q = |i: usize| [s[4 * i], s[4 * i + 1], s[4 * i + 2], s[4 * i + 3]];
+    [q(0), q(1), q(2), q(3)]
+}
+
+/// Writes the first `n` lanes of `acc` to `v[at..]` (fewer than 16 through
+/// a copy, so that the lanes are never picked one by one: that made the
+/// compiler keep every block in scalars).
+#[inline(always)]
+fn store(v: &mut [f32], at: usize, acc: &Block, n: usize) {
+    let mut tmp = [0.0f32; LANES];
+    let d: &mut [f32; LANES] = if n == LANES {
+        (&mut v[at..at + LANES])
+            .try_into()
+            .expect("a slice of LANES values")
+    } else {
+        &mut tmp
+    };
+    for i in 0..4 {
+        d[4 * i..4 * i + 4].copy_from_slice(&acc[i]);
+    }
+    if n < LANES {
+        v[at..at + n].copy_from_slice(&tmp[..n]);
+    }
+}
+
+/// The 16 cells of `row` from column `c` on, zeros outside the row (a
+/// whole block inside it is one load per vector; any other goes through a
+/// zeroed copy, so both are vector loads).
+#[inline(always)]
+fn fetch(row: &[f32], c: isize) -> Block {
+    let nx = row.len() as isize;
+    if c >= 0 && c + LANES as isize <= nx {
+        return load(row, c as usize);
+    }
+    let mut tmp = [0.0f32; LANES];
+    let lo = (-c).clamp(0, LANES as isize);
+    let hi = (nx - c).clamp(lo, LANES as isize);
+    if lo < hi {
+        tmp[lo as usize..hi as usize].copy_from_slice(&row[(c + lo) as usize..(c + hi) as usize]);
+    }
+    load(&tmp, 0)
+}
+
+/// True when every lane of a block is at least `lim`: three vector
+/// minima, one compare, one mask test (the lane-wise `&` of four compares
+/// is the form LLVM turns into `cmpps` + `movmskps`).
+#[inline(always)]
+fn all_at_least(c: &Block, lim: f32) -> bool {
+    let m = vmin(vmin(c[0], c[1]), vmin(c[2], c[3]));
+    (m[0] >= lim) & (m[1] >= lim) & (m[2] >= lim) & (m[3] >= lim)
+}
+
+/// First columns of the blocks of a row of `nx` cells: whole blocks from 0,
+/// and when `nx` is not a multiple of 16 a last one ending at `nx`, which
+/// overlaps the one before (its cells get the same values twice: every
+/// pass reads one buffer and writes another, or a copy of the row), so that
+/// no block but that of a row shorter than 16 cells is partial.
+fn block_starts(nx: usize) -> impl Iterator<Item = usize> {
+    let tail = (nx % LANES != 0).then(|| nx.saturating_sub(LANES));
+    (0..nx / LANES).map(|q| q * LANES).chain(tail)
+}
+
+/// Maxima and minima of the 16-column chunks `q_lo..q_hi` of `rows` (a
+/// group: whole rows of `nx` cells) into `gmax`, `gmin` (one value per
+/// chunk of the row): down the rows into `buf` first, in loops over slices
+/// (the form the compiler vectorises cleanly), then across each chunk.
+fn group_extrema(
+    rows: &[f32],
+    nx: usize,
+    (q_lo, q_hi): (usize, usize),
+    gmax: &mut [f32],
+    gmin: &mut [f32],
+    buf: &mut [f32],
+) {
+    let (c_lo, c_hi) = (q_lo * LANES, (q_hi * LANES).min(nx));
+    let buf = &mut buf[c_lo..c_hi];
+    let mut lines = rows.chunks_exact(nx).map(|r| &r[c_lo..c_hi]);
+    let Some(first) = lines.next() else { return };
+    buf.copy_from_slice(first);
+    for line in lines.clone() {
+        for (m, &v) in buf.iter_mut().zip(line) {
+            *m = fmax(*m, v);
+        }
+    }
+    for (m, ch) in gmax[q_lo..q_hi].iter_mut().zip(buf.chunks(LANES)) {
+        *m = ch.iter().fold(0.0, |a, &v| fmax(a, v));
+    }
+    buf.copy_from_slice(first);
+    for line in lines {
+        for (m, &v) in buf.iter_mut().zip(line) {
+            *m = fmin(*m, v);
+        }
+    }
+    for (m, ch) in gmin[q_lo..q_hi].iter_mut().zip(buf.chunks(LANES)) {
+        *m = ch.iter().fold(f32::INFINITY, |a, &v| fmin(a, v));
+    }
+}
+
+/// One offset pass over a block (see the module docs): `acc` holds the
+/// block's own values and leaves with `max_k min(max(up_k, down_k), b[k])`
+/// over `k < b.len()`, where `ring(k)` gives the blocks `k` samples up and
+/// down the line and `u` bounds every value within reach of the block.
+///
+/// Offsets stop as soon as every lane holds at least `min(b[k], u)`: every
+/// later term `min(ring, b[k'])` is at most that (`b` falls, no value
+/// exceeds `u`), so it could not raise a lane, and the result is exactly
+/// that of all offsets. A block on a plateau (or at its window's maximum)
+/// stops before the first offset, one near a peak once it has met it.
+#[inline(always)]
+fn run_block(acc: &mut Block, u: f32, b: &[f32], ring: impl Fn(usize) -> (Block, Block)) {
+    for (k, &bk) in b.iter().enumerate().skip(1) {
+        if all_at_least(acc, fmin(bk, u)) {
+            return;
+        }
+        let (up, dn) = ring(k);
+        let bv = [bk; 4];
+        for i in 0..4 {
+            acc[i] = vmax(acc[i], vmin(vmax(up[i], dn[i]), bv));
+        }
     }
 }
 
@@ -276,85 +506,248 @@ impl FuzzyGrid {
             core: 0.5 * (px.core + py.core) / SQRT_2,
             flank: 0.5 * (px.flank + py.flank) / SQRT_2,
         };
-        if !px.is_identity() {
-            if reach(px) <= LEVEL_MAX {
-                self.level_pass(px, 1, 0);
-            } else {
-                self.row_pass(px);
+        // The 1-D passes: (profile, direction, line length capping the reach).
+        let (nx, ny) = (self.nx, self.ny);
+        let mut passes = [None; 4];
+        let mut n = 0;
+        let mut plan = |p: Profile, dx: isize, dy: isize, cap: usize| {
+            if !p.is_identity() {
+                passes[n] = Some((p, dx, dy, cap));
+                n += 1;
             }
+        };
+        plan(px, 1, 0, nx);
+        plan(py, 0, 1, ny);
+        if diag {
+            plan(pd, 1, 1, nx.min(ny)); // diagonals (+1, +1)
+            plan(pd, -1, 1, nx.min(ny)); // anti-diagonals (−1, +1)
         }
-        if !py.is_identity() {
-            if reach(py) <= LEVEL_MAX {
-                self.level_pass(py, 0, 1);
+        let by_offsets = |p: Profile| reach(p) <= LEVEL_MAX;
+        // The group extrema the offset passes rely on and keep up to date
+        // for a next one; a deque pass invalidates them.
+        let mut extrema = false;
+        for i in 0..n {
+            let Some((p, dx, dy, cap)) = passes[i] else {
+                continue;
+            };
+            if by_offsets(p) {
+                if !extrema {
+                    self.measure_extrema();
+                }
+                let (b, k) = levels(p, cap);
+                let next = passes.get(i + 1).copied().flatten();
+                extrema = next.is_some_and(|(q, ..)| by_offsets(q));
+                self.offset_pass(&b[..=k], dx, dy, extrema);
             } else {
-                self.skew_pass(py, 0);
-            }
-        }
-        if diag && !pd.is_identity() {
-            if reach(pd) <= LEVEL_MAX {
-                self.level_pass(pd, 1, 1);
-                self.level_pass(pd, -1, 1);
-            } else {
-                self.skew_pass(pd, 1); // diagonals (+1, +1)
-                self.skew_pass(pd, -1); // anti-diagonals (−1, +1)
+                match dy {
+                    0 => self.row_pass(p),
+                    _ => self.skew_pass(p, dx),
+                }
+                extrema = false;
             }
         }
     }
 
-    /// One 1-D pass along direction `(dx, dy)` by levels (see the module
-    /// docs): for each output row, `m` grows to the running maximum of `G`
-    /// over offsets `−k..=k` along the direction, and the output is
-    /// `max_k min(m_k, B(k))`. Every step is an element-wise max/min over
-    /// whole rows, so every lane is independent and the loops vectorise. The
-    /// result goes to the scratch plane, which then becomes the plane.
-    fn level_pass(&mut self, p: Profile, dx: isize, dy: isize) {
+    /// The extrema of every group-chunk of the plane ([`group_extrema`]),
+    /// which [`FuzzyGrid::offset_pass`] starts from.
+    fn measure_extrema(&mut self) {
+        let (nx, q_n) = (self.nx, self.nx.div_ceil(LANES));
+        let n = self.ny.div_ceil(GROUP) * q_n;
+        let (gmax, rest) = self.cm.split_at_mut(n);
+        let gmin = &mut rest[..n];
+        for (g, rows) in self.h.chunks(GROUP * nx).enumerate() {
+            let at = g * q_n;
+            group_extrema(
+                rows,
+                nx,
+                (0, q_n),
+                &mut gmax[at..at + q_n],
+                &mut gmin[at..at + q_n],
+                &mut self.line_out,
+            );
+        }
+    }
+
+    /// One 1-D pass by offsets (see the module docs) along `(dx, dy)`: the
+    /// rows (`(1, 0)`), the columns (`(0, 1)`), the diagonals (`(1, 1)`)
+    /// or the anti-diagonals (`(−1, 1)`). The neighbours of cell `(c, j)`
+    /// at offset `k` are `(c ∓ dx·k, j ∓ dy·k)`, so the blocks of row `j`
+    /// (16 adjacent cells) meet their neighbours as 16 adjacent cells of
+    /// rows `j ∓ dy·k`, shifted by `∓ dx·k`: every lane is a line and every
+    /// step is lane-wise.
+    ///
+    /// In place. `cm` holds the extrema of every group of [`GROUP`] rows ×
+    /// 16 columns ([`group_extrema`]); each group's bound is the largest
+    /// maximum within reach of any of its cells. A group whose minimum
+    /// reaches its bound is left alone (every cell is the maximum within
+    /// its reach, so it keeps its value): on a belief mostly at the floor,
+    /// most of the plane. Other blocks run [`run_block`] with their group's
+    /// bound, and the extrema of their groups are measured again for the
+    /// next pass. Along rows, each row worth working on is copied first
+    /// between `K` zeros (the line buffer), so that every offset reads
+    /// inside the copy. Along columns and diagonals, each row that a block
+    /// may read is copied before it changes into a ring of the last `K + 1`
+    /// rows (the scratch plane: `K < ny`), which serves the row itself and
+    /// its neighbours above; those below are still untouched. A neighbour
+    /// block crossing the grid's side is fetched with zeros outside
+    /// ([`fetch`]).
+    fn offset_pass(&mut self, b: &[f32], dx: isize, dy: isize, keep_extrema: bool) {
         let (nx, ny) = (self.nx, self.ny);
-        let k_max = reach(p).min(nx.max(ny));
+        let kmax = b.len() - 1;
+        if kmax == 0 {
+            return;
+        }
+        let q_n = nx.div_ceil(LANES);
+        let g_n = ny.div_ceil(GROUP);
         let FuzzyGrid {
             h,
             scratch,
             line,
             line_out,
+            cm,
             ..
         } = self;
-        let m = &mut line[..nx];
-        let acc = &mut line_out[..nx];
-        for j in 0..ny {
-            let row = &h[j * nx..(j + 1) * nx];
-            m.copy_from_slice(row);
-            acc.copy_from_slice(row);
-            for k in 1..=k_max {
-                let b = p.at(k as f32);
-                let mut any = false;
-                for sign in [1isize, -1] {
-                    let r = j as isize + sign * dy * k as isize;
-                    if r < 0 || r >= ny as isize {
-                        continue;
+        let (gmax, rest) = cm.split_at_mut(g_n * q_n);
+        let (gmin, rest) = rest.split_at_mut(g_n * q_n);
+        // Each group-chunk's bound, negative when it is left alone.
+        let ub = &mut rest[..g_n * q_n];
+        let (reach_r, reach_c) = (dy as usize * kmax, dx.unsigned_abs() * kmax);
+        for g in 0..g_n {
+            let g_lo = (g * GROUP).saturating_sub(reach_r) / GROUP;
+            let g_hi = ((g + 1) * GROUP - 1 + reach_r).min(ny - 1) / GROUP;
+            for q in 0..q_n {
+                let q_lo = (q * LANES).saturating_sub(reach_c) / LANES;
+                let q_hi = ((q + 1) * LANES - 1 + reach_c).min(nx - 1) / LANES;
+                let mut u = 0.0f32;
+                for gg in g_lo..=g_hi {
+                    for &v in &gmax[gg * q_n + q_lo..=gg * q_n + q_hi] {
+                        u = fmax(u, v);
                     }
-                    // Sample column c + shift for output column c, inside the grid.
-                    let shift = sign * dx * k as isize;
-                    let lo = (-shift).max(0) as usize;
-                    let hi = (nx as isize - shift).clamp(0, nx as isize) as usize;
-                    if lo >= hi {
-                        continue;
+                }
+                let i = g * q_n + q;
+                ub[i] = if gmin[i] >= u { -1.0 } else { u };
+            }
+        }
+        let group_active = |g: usize| ub[g * q_n..(g + 1) * q_n].iter().any(|&u| u >= 0.0);
+        // A block's bound, or None when both its chunks are left alone.
+        let bound = |j: usize, c0: usize| {
+            let at = (j / GROUP) * q_n;
+            let (qa, qb) = (at + c0 / LANES, at + (c0 + LANES - 1).min(nx - 1) / LANES);
+            let u = fmax(ub[qa], ub[qb]);
+            (u >= 0.0).then_some(u)
+        };
+        if dy == 0 {
+            let lp = &mut line[..nx.div_ceil(LANES) * LANES + 2 * kmax];
+            lp.fill(0.0);
+            for (j, row) in h.chunks_exact_mut(nx).enumerate() {
+                if !group_active(j / GROUP) {
+                    continue;
+                }
+                let mut copied = false;
+                for c0 in block_starts(nx) {
+                    let Some(u) = bound(j, c0) else { continue };
+                    if !copied {
+                        lp[kmax..kmax + nx].copy_from_slice(row);
+                        copied = true;
                     }
-                    any = true;
-                    let src_lo = (r as usize * nx) as isize + lo as isize + shift;
-                    let src = &h[src_lo as usize..src_lo as usize + (hi - lo)];
-                    max_into(&mut m[lo..hi], src);
-                }
-                if !any {
-                    break; // no cell further along either: nothing left to add
-                }
-                // Branch-free max/min (`f32::max`'s NaN rule blocks SIMD).
-                for (a, &v) in acc.iter_mut().zip(m.iter()) {
-                    let t = if v < b { v } else { b };
-                    *a = if t > *a { t } else { *a };
+                    let x = kmax + c0; // the block's first cell in `lp`
+                    let mut acc = load(lp, x);
+                    run_block(&mut acc, u, b, |k| (load(lp, x - k), load(lp, x + k)));
+                    store(row, c0, &acc, LANES.min(nx - c0));
                 }
             }
-            scratch[j * nx..(j + 1) * nx].copy_from_slice(acc);
+        } else {
+            let slots = kmax + 1;
+            let ring = &mut scratch[..slots * nx];
+            let stride = nx as isize + dx; // one step along the line, in the plane
+            for j in 0..ny {
+                // Row j is read by blocks of rows j..=j + kmax.
+                let (g, g_last) = (j / GROUP, (j + kmax).min(ny - 1) / GROUP);
+                if !(g..=g_last).any(group_active) {
+                    continue;
+                }
+                let slot = (j % slots) * nx;
+                ring[slot..slot + nx].copy_from_slice(&h[j * nx..(j + 1) * nx]);
+                if !group_active(g) {
+                    continue;
+                }
+                let inner_row = j >= kmax && j + kmax < ny;
+                // Offsets beyond both ends of the grid add nothing.
+                let k_end = kmax.min(j.max(ny - 1 - j));
+                // Where the rows above sit in the ring.
+                let mut up_at = [0usize; LEVEL_MAX + 1];
+                for (k, at) in up_at.iter_mut().enumerate().take(kmax.min(j) + 1) {
+                    *at = ((j - k) % slots) * nx;
+                }
+                let above = |k: usize| &ring[up_at[k]..up_at[k] + nx];
+                for c0 in block_starts(nx) {
+                    let Some(u) = bound(j, c0) else { continue };
+                    let mut acc;
+                    if inner_row && c0 >= reach_c && c0 + LANES + reach_c <= nx {
+                        let at = j * nx + c0;
+                        acc = load(ring, slot + c0);
+                        run_block(&mut acc, u, b, |k| {
+                            let up = (up_at[k] + c0) as isize - dx * k as isize;
+                            (
+                                load(ring, up as usize),
+                                load(h, at + (k as isize * stride) as usize),
+                            )
+                        });
+                    } else {
+                        let c = c0 as isize;
+                        acc = fetch(&ring[slot..slot + nx], c);
+                        run_block(&mut acc, u, &b[..=k_end], |k| {
+                            let d = dx * k as isize;
+                            let up = if j >= k { fetch(above(k), c - d) } else { ZERO };
+                            let dn = if j + k < ny {
+                                fetch(&h[(j + k) * nx..(j + k + 1) * nx], c + d)
+                            } else {
+                                ZERO
+                            };
+                            (up, dn)
+                        });
+                    }
+                    store(&mut h[j * nx..(j + 1) * nx], c0, &acc, LANES.min(nx - c0));
+                }
+            }
         }
-        std::mem::swap(h, scratch);
+        if !keep_extrema {
+            return;
+        }
+        // For a next offset pass. Every output is at most its group's bound
+        // and at least its input (dilation is extensive): when most of the
+        // plane was worked on, those bounds stand for the extrema (measuring
+        // would cost about as much as the pass, and would rarely let a
+        // group be left alone); otherwise the group-chunks worked on are
+        // measured again (a row's overlapping last block also rewrites
+        // cells of the chunk before, with the values they had: that chunk's
+        // cells were each the maximum within reach).
+        let worked = ub.iter().filter(|&&u| u >= 0.0).count();
+        if 2 * worked > ub.len() {
+            for (mx, &u) in gmax.iter_mut().zip(ub.iter()) {
+                if u >= 0.0 {
+                    *mx = u;
+                }
+            }
+            return;
+        }
+        for g in 0..g_n {
+            let ubg = &ub[g * q_n..(g + 1) * q_n];
+            let Some(q_lo) = ubg.iter().position(|&u| u >= 0.0) else {
+                continue;
+            };
+            let q_hi = q_n - ubg.iter().rev().position(|&u| u >= 0.0).unwrap_or(0);
+            let rows = &h[g * GROUP * nx..((g + 1) * GROUP).min(ny) * nx];
+            let at = g * q_n;
+            group_extrema(
+                rows,
+                nx,
+                (q_lo, q_hi),
+                &mut gmax[at..at + q_n],
+                &mut gmin[at..at + q_n],
+                line_out,
+            );
+        }
     }
 
     /// The x pass: rows are contiguous, so each is dilated in place through
@@ -461,6 +854,40 @@ impl FuzzyGrid {
 }
 
 #[cfg(test)]
+impl FuzzyGrid {
+    /// [`FuzzyGrid::dilate_xy`] with every pass by deques: the reference
+    /// the offset passes are tested against.
+    fn dilate_by_deques(&mut self, core: [f32; 2], flank: [f32; 2]) {
+        let cells = |v: f32| v.max(0.0) / self.cell;
+        let (k, diag) = match self.cfg.element {
+            ElementShape::Octagon => (1.0 / (1.0 + SQRT_2), true),
+            ElementShape::Square => (1.0, false),
+        };
+        let px = Profile {
+            core: cells(core[0]) * k,
+            flank: cells(flank[0]) * k,
+        };
+        let py = Profile {
+            core: cells(core[1]) * k,
+            flank: cells(flank[1]) * k,
+        };
+        let pd = Profile {
+            core: 0.5 * (px.core + py.core) / SQRT_2,
+            flank: 0.5 * (px.flank + py.flank) / SQRT_2,
+        };
+        for v in self.h.iter_mut() {
+            *v = v.clamp(0.0, 1.0);
+        }
+        self.row_pass(px);
+        self.skew_pass(py, 0);
+        if diag {
+            self.skew_pass(pd, 1);
+            self.skew_pass(pd, -1);
+        }
+    }
+}
+
+#[cfg(test)]
 mod tests {
     use super::*;
 
@@ -474,50 +901,178 @@ mod tests {
             .collect()
     }
 
-    /// The level passes (short reach) and the deque passes (long reach)
+    /// The offset passes (short reach) and the deque passes (long reach)
     /// are two evaluations of the same 1-D dilations: they must agree on
-    /// every line, border lines included.
+    /// every line, border lines included, on random values and on plateaus
+    /// with spikes (where blocks stop early, at different offsets).
     #[test]
-    fn level_and_deque_passes_agree() {
+    fn offset_and_deque_passes_agree() {
         use crate::grid::GridConfig;
-        let mut g = FuzzyGrid::new(GridConfig::default(), [0.0, 0.0, 2.3, 1.7]).unwrap();
         let mut seed = 12345u32;
-        for v in g.possibilities_mut() {
+        let mut rnd = move || {
             seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12_345);
-            *v = (seed >> 8) as f32 / (1u32 << 24) as f32;
-        }
-        for p in [
-            Profile {
-                core: 0.0,
-                flank: 2.5,
-            },
-            Profile {
-                core: 1.3,
-                flank: 0.0,
-            },
-            Profile {
-                core: 0.7,
-                flank: 4.2,
-            },
-            Profile {
-                core: 3.0,
-                flank: 9.0,
-            },
-        ] {
-            for (dx, dy, s) in [
-                (1, 0, None),
-                (0, 1, Some(0)),
-                (1, 1, Some(1)),
-                (-1, 1, Some(-1)),
-            ] {
-                let (mut a, mut b) = (g.clone(), g.clone());
-                a.level_pass(p, dx, dy);
-                match s {
-                    None => b.row_pass(p),
-                    Some(s) => b.skew_pass(p, s),
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        for (w, h) in [(2.3, 1.7), (0.7, 3.1), (4.1, 0.3)] {
+            let mut g = FuzzyGrid::new(GridConfig::default(), [0.0, 0.0, w, h]).unwrap();
+            for pattern in 0..3 {
+                for v in g.possibilities_mut() {
+                    let r = rnd();
+                    *v = match pattern {
+                        0 => r,
+                        1 => 0.03 * r,
+                        _ if r < 0.03 => 1.0,
+                        _ if r < 0.1 => 0.4,
+                        _ => 0.02,
+                    };
                 }
-                for (x, y) in a.possibilities().iter().zip(b.possibilities()) {
-                    assert!((x - y).abs() < 1e-6, "{p:?} ({dx},{dy}): {x} vs {y}");
+                for p in [
+                    Profile {
+                        core: 0.0,
+                        flank: 2.5,
+                    },
+                    Profile {
+                        core: 1.3,
+                        flank: 0.0,
+                    },
+                    Profile {
+                        core: 0.7,
+                        flank: 4.2,
+                    },
+                    Profile {
+                        core: 3.0,
+                        flank: 9.0,
+                    },
+                    Profile {
+                        core: 0.0,
+                        flank: 24.9,
+                    },
+                ] {
+                    for s in [None, Some(0), Some(1), Some(-1)] {
+                        let (mut a, mut b) = (g.clone(), g.clone());
+                        let cap = match s {
+                            None => g.nx(),
+                            Some(0) => g.ny(),
+                            _ => g.nx().min(g.ny()),
+                        };
+                        let (lv, k) = levels(p, cap);
+                        match s {
+                            None => {
+                                {
+                                    a.measure_extrema();
+                                    a.offset_pass(&lv[..=k], 1, 0, false);
+                                }
+                                b.row_pass(p);
+                            }
+                            Some(s) => {
+                                {
+                                    a.measure_extrema();
+                                    a.offset_pass(&lv[..=k], s, 1, false);
+                                }
+                                b.skew_pass(p, s);
+                            }
+                        }
+                        for (x, y) in a.possibilities().iter().zip(b.possibilities()) {
+                            assert!((x - y).abs() < 1e-6, "{p:?} {s:?}: {x} vs {y}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Whole dilations (every pass, the group extrema carried from pass to
+    /// pass, groups left alone) against the same 1-D elements applied by
+    /// the deque passes alone, borders included, on beliefs where groups
+    /// are left alone, where blocks stop early and where none do, with
+    /// anisotropic elements and both shapes.
+    #[test]
+    fn whole_dilations_match_the_deque_passes() {
+        use crate::grid::GridConfig;
+        let mut seed = 4242u32;
+        let mut rnd = move || {
+            seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        for element in [ElementShape::Octagon, ElementShape::Square] {
+            for (w, h) in [(12.0, 10.3), (5.3, 4.1), (1.3, 2.9), (2.0, 0.9)] {
+                let cfg = GridConfig {
+                    element,
+                    ..GridConfig::default()
+                };
+                let mut g = FuzzyGrid::new(cfg, [0.0, 0.0, w, h]).unwrap();
+                for pattern in 0..6 {
+                    for v in g.possibilities_mut() {
+                        let r = rnd();
+                        *v = match pattern {
+                            0 => r,
+                            1 => 0.03 * r,
+                            // A few peaks on the floor: most groups left alone.
+                            2 if r < 0.002 => 1.0,
+                            2 if r < 0.005 => 0.3,
+                            2 => 1e-8,
+                            3 if r < 0.2 => 0.2 + 0.8 * r,
+                            3 => 0.016,
+                            4 => 0.9 + 0.1 * r,
+                            // Groups whose minimum is just under their bound.
+                            _ if r < 0.03 => 0.504,
+                            _ => 0.5,
+                        };
+                    }
+                    for (core, flank) in [
+                        ([0.0, 0.0], [0.3, 0.3]),
+                        ([0.05, 0.0], [1.0, 0.4]),
+                        ([0.2, 0.3], [2.5, 2.5]),
+                        ([0.0, 0.1], [0.0, 3.0]),
+                    ] {
+                        let mut a = g.clone();
+                        a.dilate_xy(core, flank);
+                        let mut b = g.clone();
+                        b.dilate_by_deques(core, flank);
+                        for (i, (x, y)) in
+                            a.possibilities().iter().zip(b.possibilities()).enumerate()
+                        {
+                            assert!(
+                                (x - y).abs() < 1e-6,
+                                "{element:?} {w}×{h} pattern {pattern} {core:?} {flank:?} cell {i}: {x} vs {y}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// A lone peak next to a chunk edge on a floor: its rise into the next
+    /// chunk must reach the next passes' bounds (the extrema they measure
+    /// again), or the groups around would be left alone wrongly.
+    #[test]
+    fn lone_peaks_spread_across_chunk_edges() {
+        use crate::grid::GridConfig;
+        for element in [ElementShape::Octagon, ElementShape::Square] {
+            let cfg = GridConfig {
+                element,
+                ..GridConfig::default()
+            };
+            lone_peaks(FuzzyGrid::new(cfg, [0.0, 0.0, 12.0, 10.3]).unwrap());
+        }
+    }
+
+    fn lone_peaks(mut g: FuzzyGrid) {
+        for (c, r) in [(14usize, 20usize), (47, 63), (80, 7), (112, 95)] {
+            g.possibilities_mut().fill(1e-8);
+            let nx = g.nx();
+            g.possibilities_mut()[r * nx + c] = 1.0;
+            for flank in [0.6, 1.0, 2.0, 3.0] {
+                let mut a = g.clone();
+                a.dilate(0.0, flank);
+                let mut b = g.clone();
+                b.dilate_by_deques([0.0; 2], [flank; 2]);
+                for (i, (x, y)) in a.possibilities().iter().zip(b.possibilities()).enumerate() {
+                    assert!(
+                        (x - y).abs() < 1e-6,
+                        "peak ({c}, {r}) flank {flank} cell {i}: {x} vs {y}"
+                    );
                 }
             }
         }
