@@ -214,11 +214,32 @@ impl FuzzyGrid {
     /// [`FuzzyGrid::finish_update`] given `raw = raw_max(plane)`, which the
     /// update passes measure row by row while the row is in cache: flushing
     /// and clamping then happen in the same sweep as the normalisation, one
-    /// sweep over the plane instead of two. The height is the flushed and
-    /// clamped maximum, `min(raw, 1)` if `raw ≥ flush`, else 0: the maximum of
-    /// the flushed, clamped cells (NaN cells, never selected by
-    /// [`raw_max`], are flushed to 0).
+    /// sweep over the plane instead of two.
     pub(crate) fn finish_update_from(&mut self, raw: f32) -> f32 {
+        let s = match self.settle_for(raw) {
+            Ok(s) => s,
+            Err(height) => return height,
+        };
+        let FuzzyGrid { h, bias, delta, .. } = self;
+        if s.floor > 0.0 {
+            for ((h, b), d) in h.iter_mut().zip(bias.iter_mut()).zip(delta.iter_mut()) {
+                (*h, *b, *d) = s.cell(*h, *b, *d);
+            }
+        } else {
+            for h in h.iter_mut() {
+                *h = s.height(*h);
+            }
+        }
+        self.last_height
+    }
+
+    /// The [`Settle`] of an update whose plane has the raw maximum `raw`
+    /// ([`raw_max`]), and records the height. The height is the flushed and
+    /// clamped maximum, `min(raw, 1)` if `raw ≥ flush`, else 0: the maximum of
+    /// the flushed, clamped cells (NaN cells, never selected by [`raw_max`],
+    /// are flushed to 0). `Err(height)` when there is nothing to settle: the
+    /// plane was driven to 0 and has been reset (height 0).
+    pub(crate) fn settle_for(&mut self, raw: f32) -> Result<Settle, f32> {
         let flush = self.cfg.flush_below;
         let max = if raw >= flush { raw.min(1.0) } else { 0.0 };
         self.last_height = max;
@@ -227,44 +248,77 @@ impl FuzzyGrid {
             self.reset();
             self.pending = pending;
             self.last_height = 0.0;
-            return 0.0;
+            return Err(0.0);
         }
         let k = if self.cfg.normalize && max < 1.0 {
             1.0 / max
         } else {
             1.0
         };
-        let floor = self.cfg.floor;
-        if floor > 0.0 {
-            // Pass 2: normalise and keep π(x, y, θ) = h · max(b, ramp) ≥ floor
-            // for every θ: cells under the floor rise to it with a full-circle
-            // heading (bias 1, Δ = 2π), the others get b ≥ floor / h.
-            // Selects on the bits ([`blend`]) over zipped iterators, so that
-            // the pass vectorises (with plain `if`s and indices it was
-            // compiled scalar and branchy, ~70 % of a range update).
-            let cells = self
-                .h
-                .iter_mut()
-                .zip(self.bias.iter_mut())
-                .zip(self.delta.iter_mut());
-            for ((h, b), d) in cells {
-                let m = flush_clamp(*h, flush) * k;
-                let n = if m < 1.0 { m } else { 1.0 }; // f32::min's NaN rule blocks SIMD
-                let low = n < floor;
-                // Computed unconditionally (n > 0 whenever it is used).
-                let raised = floor / if n > 0.0 { n } else { 1.0 };
-                let nb = blend(n * *b < floor, raised, *b);
-                *b = blend(low, 1.0, nb);
-                *d = blend(low, 2.0 * PI, *d);
-                *h = blend(low, floor, n);
-            }
-        } else {
-            for v in self.h.iter_mut() {
-                let m = flush_clamp(*v, flush) * k;
-                *v = if m < 1.0 { m } else { 1.0 };
-            }
-        }
-        max
+        Ok(Settle {
+            flush,
+            k,
+            floor: self.cfg.floor,
+        })
+    }
+}
+
+/// How an update leaves each cell, from its raw value (the plane combined
+/// with the observation): flushed under `flush`, scaled by `k` (≥ 1, the
+/// normalisation), clamped to 1, and kept at `floor`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Settle {
+    flush: f32,
+    k: f32,
+    /// 0 disables the floor ([`Settle::height`] is then the whole story).
+    pub(crate) floor: f32,
+}
+
+impl Settle {
+    /// The normalised value of a raw cell value: 0 under `flush` (NaN too:
+    /// it fails `>=`), else `min(raw · k, 1)`. That is `min(min(raw, 1) · k,
+    /// 1)`, the clamp-then-scale of the definition, in fewer operations:
+    /// the two agree for `raw < 1` and both give 1 above, since `k ≥ 1`.
+    #[inline(always)]
+    fn scaled(&self, raw: f32) -> f32 {
+        let m = raw * self.k;
+        let n = if m < 1.0 { m } else { 1.0 }; // f32::min's NaN rule blocks SIMD
+        blend(raw >= self.flush, n, 0.0)
+    }
+
+    /// The cell's new possibility with no floor (`floor = 0`).
+    #[inline(always)]
+    pub(crate) fn height(&self, raw: f32) -> f32 {
+        self.scaled(raw)
+    }
+
+    /// The cell's new `(h, b, Δ)` with the floor: `π(x, y, θ) = h · max(b,
+    /// ramp) ≥ floor` for every θ. A cell under the floor rises to it with a
+    /// full-circle heading (bias 1, Δ = 2π); another keeps `b ≥ floor / h`.
+    /// Selects on the bits ([`blend`]) so that loops calling it vectorise
+    /// (with plain `if`s it was compiled scalar and branchy).
+    #[inline(always)]
+    pub(crate) fn cell(&self, raw: f32, b: f32, d: f32) -> (f32, f32, f32) {
+        let n = self.scaled(raw);
+        let low = n < self.floor;
+        let h = fmax(n, self.floor);
+        // floor / h is the raised bias floor / n above the floor, and
+        // exactly 1 under it (h = floor there): one division and one
+        // select serve both cases, and no guard is needed against n = 0.
+        let raised = self.floor / h;
+        let b = blend(low | (n * b < self.floor), raised, b);
+        (h, b, blend(low, 2.0 * PI, d))
+    }
+}
+
+/// `max(a, b)` as a select (`f32::max`'s NaN rule blocks SIMD): `b` when
+/// `a` is NaN.
+#[inline(always)]
+fn fmax(a: f32, b: f32) -> f32 {
+    if a > b {
+        a
+    } else {
+        b
     }
 }
 
@@ -275,21 +329,6 @@ impl FuzzyGrid {
 fn blend(c: bool, a: f32, b: f32) -> f32 {
     let m = (c as u32).wrapping_neg();
     f32::from_bits((a.to_bits() & m) | (b.to_bits() & !m))
-}
-
-/// Flushes values under `flush` (NaN too: it fails `>=`) to 0 and clamps to
-/// 1, with selects (`f32::min`'s NaN rule blocks SIMD).
-#[inline(always)]
-fn flush_clamp(v: f32, flush: f32) -> f32 {
-    if v >= flush {
-        if v < 1.0 {
-            v
-        } else {
-            1.0
-        }
-    } else {
-        0.0
-    }
 }
 
 /// Largest value of a slice, at least 0, NaN ignored; eight independent
@@ -307,4 +346,92 @@ pub(crate) fn raw_max(v: &[f32]) -> f32 {
     rest.iter()
         .chain(lanes.iter())
         .fold(0.0f32, |a, &b| if b > a { b } else { a })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The normalise/floor step as it was first written (clamp, scale,
+    /// clamp again; a guarded division; three separate selects), kept as
+    /// the reference that [`Settle::cell`] and [`Settle::height`] must match
+    /// bit for bit: the MRCLAM figures rest on these floats.
+    fn reference(raw: f32, b: f32, d: f32, s: Settle) -> (f32, f32, f32) {
+        let clamped = if raw >= s.flush {
+            if raw < 1.0 {
+                raw
+            } else {
+                1.0
+            }
+        } else {
+            0.0
+        };
+        let m = clamped * s.k;
+        let n = if m < 1.0 { m } else { 1.0 };
+        if s.floor <= 0.0 {
+            return (n, b, d);
+        }
+        let low = n < s.floor;
+        let raised = s.floor / if n > 0.0 { n } else { 1.0 };
+        let nb = if n * b < s.floor { raised } else { b };
+        if low {
+            (s.floor, 1.0, 2.0 * PI)
+        } else {
+            (n, nb, d)
+        }
+    }
+
+    #[test]
+    fn settling_matches_the_reference_bit_for_bit() {
+        let same = |x: f32, y: f32| x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan());
+        let mut seed = 77u32;
+        let mut rnd = move || {
+            seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let specials = [
+            f32::NAN,
+            f32::INFINITY,
+            -1.0,
+            -0.0,
+            0.0,
+            1e-40,
+            1e-9,
+            1e-8,
+            0.5,
+            1.0,
+            1.0 + f32::EPSILON,
+            3.0,
+        ];
+        for k in [1.0, 1.000_000_1, 2.0, 1e3, 1e8] {
+            for flush in [0.0, 1e-9] {
+                for floor in [0.0, 1e-8, 1e-3, 0.5] {
+                    let s = Settle { flush, k, floor };
+                    for i in 0..4000 {
+                        let pick = |i: usize, r: f32| {
+                            if i < specials.len() {
+                                specials[i]
+                            } else {
+                                r
+                            }
+                        };
+                        let raw = pick(i % 40, rnd() * rnd());
+                        let b = pick((i / 40) % 40, rnd());
+                        let d = 6.0 * rnd();
+                        let want = reference(raw, b, d, s);
+                        if floor > 0.0 {
+                            let got = s.cell(raw, b, d);
+                            assert!(
+                                same(got.0, want.0) && same(got.1, want.1) && same(got.2, want.2),
+                                "raw {raw} b {b} k {k} flush {flush} floor {floor}: {got:?} vs {want:?}"
+                            );
+                        } else {
+                            let got = s.height(raw);
+                            assert!(same(got, want.0), "raw {raw} k {k}: {got} vs {}", want.0);
+                        }
+                    }
+                }
+            }
+        }
+    }
 }
