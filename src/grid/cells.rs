@@ -326,7 +326,7 @@ fn fmax(a: f32, b: f32) -> f32 {
 /// the compiler turn the store of that constant into a branch, which blocked
 /// vectorising `finish_update`'s second pass; masks cannot be sunk.
 #[inline(always)]
-fn blend(c: bool, a: f32, b: f32) -> f32 {
+pub(crate) fn blend(c: bool, a: f32, b: f32) -> f32 {
     let m = (c as u32).wrapping_neg();
     f32::from_bits((a.to_bits() & m) | (b.to_bits() & !m))
 }

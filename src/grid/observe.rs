@@ -24,11 +24,17 @@
 //! Range only: O(cells) with a small constant (O(annulus) vectorised
 //! membership evaluations). With a bearing: O(cells) angle-set
 //! intersections, written branch-free (every case computed, one selected)
-//! so that they vectorise with `atan2` and the range factor; blocks of cells
-//! whose headings are all unknown skip the intersection. Inputs outside the
-//! ranges that path assumes (a bearing beyond ±π, a heading centre outside
-//! [−π, π], an observation set as wide as the circle) take the scalar path
-//! row by row; both give the same floats (unit-tested).
+//! so that they vectorise with `atan2` and the range factor. Blocks of four
+//! cells whose headings are all unknown skip the intersection and the atan2:
+//! such a cell takes the observation's set, which it forgets again if it
+//! falls under the floor, so its observed heading is computed when the
+//! update is settled, and only if it stays above (after a few products, a
+//! few cells near the peak). Inputs outside the ranges the branch-free path
+//! assumes (a bearing beyond ±π, a heading centre outside [−π, π], an
+//! observation set as wide as the circle) take the scalar path row by row;
+//! both give the same floats (unit-tested), except that a cell whose
+//! unknown heading is forgotten again keeps its old θ and α (the set is the
+//! full circle either way).
 //!
 //! # Example
 //!
@@ -42,7 +48,7 @@
 //! assert!(g.possibility(c, r) < 0.2);
 //! ```
 
-use super::cells::raw_max;
+use super::cells::{blend, raw_max};
 use super::{Combine, FuzzyGrid, GridError, Trapezoid};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::{FRAC_PI_2, PI};
@@ -288,6 +294,30 @@ fn atan2_sel(y: f32, x: f32) -> f32 {
     }
 }
 
+/// The next run of cells of a row (headings' cores `ds`) that the bearing
+/// pass intersects, from cell `from` on: `(start, end)`, with the blocks of
+/// [`LANES`] cells before `start` holding unknown headings only (`Δ ≥ 2π`),
+/// and the run made of whole blocks each holding a known one, or of the
+/// cells after the last whole block. `start = end = len` when none is left.
+fn next_run(ds: &[f32], from: usize) -> (usize, usize) {
+    let n = ds.len();
+    let full = n - n % LANES;
+    let unknown = |b0: usize| {
+        ds[b0..b0 + LANES]
+            .iter()
+            .fold(true, |u, &d| u & (d >= 2.0 * PI))
+    };
+    let mut c = from;
+    while c < full && unknown(c) {
+        c += LANES;
+    }
+    let start = c;
+    while c < n && (c >= full || !unknown(c)) {
+        c = if c < full { c + LANES } else { n };
+    }
+    (start, c)
+}
+
 /// [`super::wrap_pi`] for `a` in (−3π, 3π], with selects: there it takes the
 /// same two branches and gives the same floats.
 #[inline(always)]
@@ -347,6 +377,12 @@ fn combine_with<const MIN: bool>(v: f32, f: f32) -> f32 {
 /// vector. Blocks of 8 skipped fewer cells and left up to 7 cells a row to
 /// the full path, which made a 20×30 update slower than the scalar code.
 const LANES: usize = 4;
+
+/// Δ of a cell whose heading was unknown when the bearing pass met it: the
+/// cell takes the observation's set in [`FuzzyGrid::bearing_settle`] if it
+/// stays above the floor (under it, the set is forgotten anyway). No
+/// heading set has it: widths are finite, at most 2π once intersected.
+const PENDING: f32 = f32::INFINITY;
 
 /// The observation's angle set without its centre, and its precomputed half
 /// widths; height 1 (as [`super::SensorModel::around`] builds it).
@@ -542,7 +578,7 @@ impl FuzzyGrid {
         Self::check_obs((lx, ly), None, Some(bearing))?;
         self.apply_pending();
         let raw = self.bearing_pass(lx, ly, None, bearing);
-        Ok(self.finish_update_from(raw))
+        Ok(self.bearing_settle(raw, lx, ly, bearing))
     }
 
     /// Updates with range and bearing of the same sighting; the two factors are
@@ -557,7 +593,7 @@ impl FuzzyGrid {
         Self::check_obs((lx, ly), Some(r), Some(bearing))?;
         self.apply_pending();
         let raw = self.bearing_pass(lx, ly, Some(r), bearing);
-        Ok(self.finish_update_from(raw))
+        Ok(self.bearing_settle(raw, lx, ly, bearing))
     }
 
     /// Updates with an [`Observation`] of a landmark from `table`.
@@ -666,17 +702,98 @@ impl FuzzyGrid {
         raw
     }
 
+    /// Settles a bearing update ([`super::cells::Settle`]; `raw` is the
+    /// pass's raw maximum) and completes the cells left [`PENDING`]: their
+    /// heading was unknown, so the observation's set is theirs (Δ, α, bias
+    /// times the observation's, the observed heading θ), with consistency 1,
+    /// which the pass already applied to `h`. A pending cell that falls
+    /// under the floor forgets that set again (bias 1, Δ = 2π), as any cell
+    /// there does; it alone keeps its old θ and α, which a full-circle set
+    /// ignores. So the observed heading — the atan2 — is computed only for
+    /// the pending cells that stay above the floor: a few near the peak
+    /// once most of the grid sits at the floor. Returns the height.
+    fn bearing_settle(&mut self, raw: f32, lx: f32, ly: f32, bearing: f32) -> f32 {
+        let st = match self.settle_for(raw) {
+            Ok(st) => st,
+            Err(height) => return height,
+        };
+        let obs = self.cfg.bearing.around(0.0);
+        let (nx, s, x0, y0) = (self.nx, self.cell, self.x0, self.y0);
+        let FuzzyGrid {
+            h,
+            theta,
+            delta,
+            alpha,
+            bias,
+            line,
+            ..
+        } = self;
+        let kept = &mut line[..nx];
+        for j in 0..self.ny {
+            let r = j * nx..(j + 1) * nx;
+            let cells = h[r.clone()]
+                .iter_mut()
+                .zip(bias[r.clone()].iter_mut())
+                .zip(delta[r.clone()].iter_mut())
+                .zip(kept.iter_mut());
+            // Every cell settled, the pending ones with the observation's
+            // set; `kept` marks those that stay above the floor.
+            let mut any = false;
+            for (((h, b), d), k) in cells {
+                let pend = *d == PENDING;
+                let b_in = blend(pend, *b * obs.bias, *b);
+                let d_in = blend(pend, obs.core, *d);
+                if st.floor > 0.0 {
+                    (*h, *b, *d) = st.cell(*h, b_in, d_in);
+                    *k = blend(pend & (*d < 2.0 * PI), 1.0, 0.0);
+                } else {
+                    *h = st.height(*h);
+                    (*b, *d) = (b_in, d_in);
+                    *k = blend(pend, 1.0, 0.0);
+                }
+                any |= *k != 0.0;
+            }
+            if !any {
+                continue;
+            }
+            // The kept pending cells' θ and α, over runs of cells holding one.
+            let dy = ly - (y0 + (j as f32 + 0.5) * s);
+            let (ts, als) = (&mut theta[r.clone()], &mut alpha[r]);
+            let mut c = 0;
+            while c < nx {
+                if kept[c] == 0.0 {
+                    c += 1;
+                    continue;
+                }
+                let start = c;
+                while c < nx && kept[c] != 0.0 {
+                    c += 1;
+                }
+                for i in start..c {
+                    let dx = lx - (x0 + (col_f(i) + 0.5) * s);
+                    ts[i] = wrap_near(atan2_sel(dy, dx) - bearing);
+                    als[i] = obs.slope;
+                }
+            }
+        }
+        self.last_height
+    }
+
     /// Row `j` of the bearing pass, every cell through the branch-free
     /// [`bearing_cell`] (and [`range_member`] when `RANGE`), so the loops
     /// vectorise, atan2 included. `MIN` selects [`Combine::Min`].
     ///
     /// Two sweeps keep few values live at once (one sweep spilled most of
     /// them): the first writes each cell's observed heading and range factor
-    /// to the line buffers, the second intersects. The second goes by blocks
-    /// of [`LANES`] cells and gives a block whose headings are all unknown
-    /// (`Δ ≥ 2π`: most of a grid after a few products, see
-    /// [`FuzzyGrid::finish_update`]'s floor) the observation's set directly,
-    /// which is what [`bearing_cell`] would select for it.
+    /// to the line buffers, the second intersects. Both go by runs of cells
+    /// ([`next_run`]): blocks of [`LANES`] cells holding a known heading
+    /// (and the cells after the last whole block) are intersected; a block
+    /// whose headings are all unknown (`Δ ≥ 2π`: most of a grid after a few
+    /// products, see the floor in [`super::cells::Settle`]) only takes its
+    /// range factor and is left [`PENDING`] for
+    /// [`FuzzyGrid::bearing_settle`], which gives it the observation's set
+    /// — what [`bearing_cell`] would select for it — with the atan2 only
+    /// where it is kept.
     #[inline(never)]
     fn bearing_row<const RANGE: bool, const MIN: bool>(
         &mut self,
@@ -710,9 +827,19 @@ impl FuzzyGrid {
         let bs = &mut bias[lo..lo + n];
         let ocs = &mut line[..n];
         let fs = &mut line_out[..n];
-        for (c, oc) in ocs.iter_mut().enumerate() {
-            let dx = lx - (x0 + (col_f(c) + 0.5) * s);
-            *oc = wrap_near(atan2_sel(dy, dx) - bearing);
+        // Runs of cells to intersect: whole blocks of LANES cells that hold
+        // a known heading, and the cells after the last whole block. The
+        // blocks in between hold unknown headings only (Δ ≥ 2π: most of a
+        // grid after a few products, see the floor in `Settle`).
+        // Their observed headings.
+        let mut c = 0;
+        while c < n {
+            let (a, b) = next_run(ds, c);
+            for (i, oc) in ocs[a..b].iter_mut().enumerate() {
+                let dx = lx - (x0 + (col_f(a + i) + 0.5) * s);
+                *oc = wrap_near(atan2_sel(dy, dx) - bearing);
+            }
+            c = b;
         }
         if RANGE {
             // The range factor is exactly the bias outside the annulus (as
@@ -733,45 +860,30 @@ impl FuzzyGrid {
         } else {
             fs.fill(1.0);
         }
-        let full = n - n % LANES;
-        for b0 in (0..full).step_by(LANES) {
-            let r = b0..b0 + LANES;
-            // Fixed-size blocks: constant trip counts, no bounds checks.
-            let hs: &mut [f32; LANES] = (&mut hs[r.clone()]).try_into().unwrap();
-            let ts: &mut [f32; LANES] = (&mut ts[r.clone()]).try_into().unwrap();
-            let ds: &mut [f32; LANES] = (&mut ds[r.clone()]).try_into().unwrap();
-            let als: &mut [f32; LANES] = (&mut als[r.clone()]).try_into().unwrap();
-            let bs: &mut [f32; LANES] = (&mut bs[r.clone()]).try_into().unwrap();
-            let ocs: &[f32; LANES] = (&ocs[r.clone()]).try_into().unwrap();
-            let fs: &[f32; LANES] = (&fs[r]).try_into().unwrap();
-            let unknown = ds.iter().fold(true, |u, &d| u & (d >= 2.0 * PI));
-            if unknown {
-                for i in 0..LANES {
-                    ts[i] = ocs[i];
-                    ds[i] = o.core;
-                    als[i] = o.slope;
-                    bs[i] *= o.bias;
-                    hs[i] = combine_with::<MIN>(hs[i], fs[i]);
-                }
-            } else {
-                for i in 0..LANES {
-                    let (nt, nd, na, nb, cons) =
-                        bearing_cell(ts[i], ds[i], als[i], bs[i], ocs[i], o);
-                    ts[i] = nt;
-                    ds[i] = nd;
-                    als[i] = na;
-                    bs[i] = nb;
-                    hs[i] = combine_with::<MIN>(hs[i], fs[i] * cons);
-                }
+        // The unknown blocks between runs: consistency 1, and the set waits
+        // for the settle pass (PENDING). The runs: every cell through the
+        // intersection, in one loop over slices (the form the compiler
+        // vectorises; per block of four it compiled lane by lane).
+        let mut c = 0;
+        while c < n {
+            let (a, b) = next_run(ds, c);
+            for (h, (d, &f)) in hs[c..a].iter_mut().zip(ds[c..a].iter_mut().zip(&fs[c..a])) {
+                *d = PENDING;
+                *h = combine_with::<MIN>(*h, f);
             }
-        }
-        for i in full..n {
-            let (nt, nd, na, nb, cons) = bearing_cell(ts[i], ds[i], als[i], bs[i], ocs[i], o);
-            ts[i] = nt;
-            ds[i] = nd;
-            als[i] = na;
-            bs[i] = nb;
-            hs[i] = combine_with::<MIN>(hs[i], fs[i] * cons);
+            let cells = hs[a..b]
+                .iter_mut()
+                .zip(ts[a..b].iter_mut())
+                .zip(ds[a..b].iter_mut())
+                .zip(als[a..b].iter_mut())
+                .zip(bs[a..b].iter_mut())
+                .zip(ocs[a..b].iter().zip(&fs[a..b]));
+            for (((((h, t), d), al), bi), (&oc, &f)) in cells {
+                let (nt, nd, na, nb, cons) = bearing_cell(*t, *d, *al, *bi, oc, o);
+                (*t, *d, *al, *bi) = (nt, nd, na, nb);
+                *h = combine_with::<MIN>(*h, f * cons);
+            }
+            c = b;
         }
     }
 
@@ -841,69 +953,97 @@ impl FuzzyGrid {
 mod tests {
     use super::*;
 
-    /// The branch-free bearing rows must give the scalar rows' floats on
-    /// every kind of heading set: unknown, wide enough that its support
-    /// covers the circle, rectangles (no flank), disjoint and overlapping.
+    /// Whole bearing updates (the branch-free rows, then the settle pass
+    /// that completes the cells left pending) must give the floats of the
+    /// scalar rows followed by the plain settle, on every kind of heading
+    /// set: unknown, wide enough that its support covers the circle,
+    /// rectangles (no flank), disjoint and overlapping; with cells falling
+    /// under the floor, with no floor, and with a bearing beyond ±π (scalar
+    /// rows). One stated difference: a cell whose heading was unknown and
+    /// that ends under the floor keeps its old θ and α (the reference gives
+    /// it the observed heading before forgetting it); its set is the full
+    /// circle in both.
     #[test]
-    fn branch_free_bearing_rows_match_scalar() {
+    fn bearing_updates_match_scalar_rows() {
         use crate::grid::{Combine, GridConfig};
         let mut seed = 987_654_321u32;
         let mut rnd = move || {
             seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12_345);
             (seed >> 8) as f32 / (1u32 << 24) as f32
         };
+        let same = |x: f32, y: f32| x.to_bits() == y.to_bits();
         for combine in [Combine::Product, Combine::Min] {
-            for round in 0..6 {
-                let cfg = GridConfig {
-                    combine,
-                    ..GridConfig::default()
-                };
-                let mut g = FuzzyGrid::new(cfg, [0.0, 0.0, 2.3, 1.7]).unwrap();
-                for j in 0..g.ny() {
-                    for i in 0..g.nx() {
-                        let kind = (rnd() * 5.0) as u32;
-                        let delta = match kind {
-                            0 => 2.0 * PI,
-                            1 => 2.0 * PI * rnd(),
-                            2 => 4.0 + 2.0 * rnd(),
-                            _ => 0.6 * rnd(),
-                        };
-                        let alpha = if rnd() < 0.2 {
-                            0.0
-                        } else {
-                            3.0 * rnd() * rnd()
-                        };
-                        let t = Trapezoid::new(PI * (2.0 * rnd() - 1.0), delta, alpha, 1.0, rnd());
-                        g.set_heading_set(i, j, t);
-                        let nx = g.nx();
-                        g.possibilities_mut()[j * nx + i] = rnd();
+            for floor in [1e-8, 0.0, 0.05] {
+                for round in 0..8 {
+                    let cfg = GridConfig {
+                        combine,
+                        floor,
+                        ..GridConfig::default()
+                    };
+                    let mut g = FuzzyGrid::new(cfg, [0.0, 0.0, 2.3, 1.7]).unwrap();
+                    for j in 0..g.ny() {
+                        for i in 0..g.nx() {
+                            // Every third row all unknown, so that whole
+                            // blocks are left pending by the pass.
+                            let kind = if j % 3 == 0 { 0 } else { (rnd() * 6.0) as u32 };
+                            let delta = match kind {
+                                0 | 5 => 2.0 * PI,
+                                1 => 2.0 * PI * rnd(),
+                                2 => 4.0 + 2.0 * rnd(),
+                                _ => 0.6 * rnd(),
+                            };
+                            let alpha = if rnd() < 0.2 {
+                                0.0
+                            } else {
+                                3.0 * rnd() * rnd()
+                            };
+                            let t =
+                                Trapezoid::new(PI * (2.0 * rnd() - 1.0), delta, alpha, 1.0, rnd());
+                            g.set_heading_set(i, j, t);
+                            let nx = g.nx();
+                            // Some cells far under the floor after the update.
+                            let h = if rnd() < 0.3 { 1e-9 * rnd() } else { rnd() };
+                            g.possibilities_mut()[j * nx + i] = h;
+                        }
                     }
-                }
-                let (lx, ly) = (3.0 * rnd() - 0.5, 3.0 * rnd() - 0.5);
-                let bearing = PI * (2.0 * rnd() - 1.0);
-                let range = if round % 2 == 0 {
-                    Some(2.0 * rnd())
-                } else {
-                    None
-                };
-                let mut a = g.clone();
-                a.bearing_pass(lx, ly, range, bearing);
-                let rt = range.map(|r| g.cfg.range.around(r));
-                for j in 0..g.ny() {
-                    g.bearing_row_scalar(j, lx, ly, rt, bearing);
-                }
-                let planes = |x: &FuzzyGrid| {
-                    [
-                        x.h.clone(),
-                        x.theta.clone(),
-                        x.delta.clone(),
-                        x.alpha.clone(),
-                        x.bias.clone(),
-                    ]
-                };
-                for (pa, pb) in planes(&a).iter().zip(planes(&g).iter()) {
-                    for (i, (u, v)) in pa.iter().zip(pb).enumerate() {
-                        assert!(u == v, "cell {i}: {u} vs {v} ({combine:?}, round {round})");
+                    let (lx, ly) = (3.0 * rnd() - 0.5, 3.0 * rnd() - 0.5);
+                    let bearing = match round {
+                        7 => 3.5, // beyond ±π: every row scalar
+                        _ => PI * (2.0 * rnd() - 1.0),
+                    };
+                    let range = if round % 2 == 0 {
+                        Some(2.0 * rnd())
+                    } else {
+                        None
+                    };
+                    let mut a = g.clone();
+                    let raw = a.bearing_pass(lx, ly, range, bearing);
+                    let ha = a.bearing_settle(raw, lx, ly, bearing);
+                    let mut b = g.clone();
+                    let rt = range.map(|r| g.cfg.range.around(r));
+                    for j in 0..g.ny() {
+                        b.bearing_row_scalar(j, lx, ly, rt, bearing);
+                    }
+                    let hb = b.finish_update();
+                    let ctx = format!("{combine:?}, floor {floor}, round {round}");
+                    assert!(same(ha, hb), "height {ha} vs {hb} ({ctx})");
+                    for i in 0..g.h.len() {
+                        assert!(
+                            same(a.h[i], b.h[i]),
+                            "h {i}: {} vs {} ({ctx})",
+                            a.h[i],
+                            b.h[i]
+                        );
+                        assert!(same(a.delta[i], b.delta[i]), "Δ {i} ({ctx})");
+                        assert!(same(a.bias[i], b.bias[i]), "b {i} ({ctx})");
+                        // θ and α as the reference's, or, only for a cell
+                        // whose heading was unknown and is forgotten again,
+                        // as they were.
+                        let forgot = g.delta[i] >= 2.0 * PI && a.delta[i] >= 2.0 * PI;
+                        let (ta, aa) = (a.theta[i], a.alpha[i]);
+                        let as_ref = same(ta, b.theta[i]) && same(aa, b.alpha[i]);
+                        let as_was = same(ta, g.theta[i]) && same(aa, g.alpha[i]);
+                        assert!(as_ref || (forgot && as_was), "θ, α {i} ({ctx})");
                     }
                 }
             }
