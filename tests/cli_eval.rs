@@ -188,6 +188,11 @@ fn exit_3_and_line_numbers_for_each_bad_input_kind() {
         ),
         ("version", r#"{"version":9,"percepts":[]}"#, "version 9"),
         (
+            "heading",
+            r#"{"heading":"NaN","percepts":[]}"#,
+            "heading is NaN",
+        ),
+        (
             "truth",
             r#"{"percepts":[],"truth":{"place":"P99"}}"#,
             "unknown truth place",
@@ -229,6 +234,30 @@ fn csv_stream_with_nan_cell() {
         .stderr(predicates::str::contains(format!(
             "{path}:3: value of beacon_angle is NaN"
         )));
+}
+
+/// A heading column in CSV, and a heading in JSON, are read (and a bad one reported).
+#[test]
+fn heading_in_csv_and_json() {
+    let s = temp(
+        "heading.csv",
+        "t,dx,heading,deg:sonar_wall(North)\n0,0,90,0.9\n0.1,0.3,inf,0.8\n",
+    );
+    let path = s.display().to_string();
+    lplace()
+        .arg("eval")
+        .arg(&s)
+        .assert()
+        .code(3)
+        .stderr(predicates::str::contains(format!(
+            "{path}:3: heading is not finite"
+        )));
+    lplace()
+        .args(["eval", "-", "--summary", "none"])
+        .write_stdin(format!("{{\"heading\":12.5,{}\n", &AT_P1[1..]))
+        .assert()
+        .success()
+        .stdout(predicates::str::contains(r#""place":"P1""#));
 }
 
 #[test]

@@ -551,6 +551,7 @@ impl Simulator {
             version: Some(FORMAT_VERSION),
             t: Some(r3(k as f64 * 0.1)),
             odometry: Some(odometry),
+            heading: None,
             percepts,
             truth: Some(Truth {
                 place: place.map(|p| self.map.places()[p].name.clone()),
