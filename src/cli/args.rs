@@ -224,6 +224,10 @@ pub struct SimulateArgs {
     /// Kidnap the robot (teleport to a random other place) at these frames (0-based).
     #[arg(long, value_name = "K", value_delimiter = ',')]
     pub kidnap_at: Vec<u64>,
+    /// Emit the robot's heading (as a compass would), with this standard deviation in degrees.
+    /// Without it frames carry no heading.
+    #[arg(long, value_name = "DEG")]
+    pub heading_noise: Option<f64>,
     /// Output form.
     #[arg(long, value_enum, default_value_t = StreamForm::Jsonl)]
     pub format: StreamForm,
