@@ -3,6 +3,21 @@
 
 use assert_cmd::Command;
 
+/// The summary of `eval -` on `stream` with `extra` flags.
+fn eval_summary(stream: &[u8], extra: &[&str]) -> serde_json::Value {
+    let out = Command::cargo_bin("lplace")
+        .unwrap()
+        .args(["eval", "-", "--only-summary", "--summary", "json"])
+        .args(extra)
+        .write_stdin(stream.to_vec())
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    serde_json::from_slice(&out).unwrap()
+}
+
 fn simulate(args: &[&str]) -> Vec<u8> {
     Command::cargo_bin("lplace")
         .unwrap()
@@ -52,17 +67,7 @@ fn kidnap_recovery_with_tracking() {
         "300,700,1100",
     ]);
     let run = |extra: &[&str]| -> Vec<u64> {
-        let out = Command::cargo_bin("lplace")
-            .unwrap()
-            .args(["eval", "-", "--only-summary", "--summary", "json"])
-            .args(extra)
-            .write_stdin(stream.clone())
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone();
-        let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+        let v = eval_summary(&stream, extra);
         assert_eq!(v["truth"]["kidnaps"], 3, "{v}");
         v["truth"]["kidnap_events"]
             .as_array()
@@ -116,17 +121,7 @@ fn heading_stream_and_kidnaps_with_both_trackers() {
         ("graph", vec![]),
         ("grid", vec!["--tracker", grid.to_str().unwrap()]),
     ] {
-        let out = Command::cargo_bin("lplace")
-            .unwrap()
-            .args(["eval", "-", "--only-summary", "--summary", "json"])
-            .args(&extra)
-            .write_stdin(a.clone())
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone();
-        let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+        let v = eval_summary(&a, &extra);
         assert_eq!(v["truth"]["kidnaps"], 3, "{label}: {v}");
         let bound = if label == "graph" { 5 } else { 20 };
         for k in v["truth"]["kidnap_events"].as_array().unwrap() {

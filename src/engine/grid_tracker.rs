@@ -72,7 +72,7 @@
 //! assert_eq!(t.step(&ev, east, Some(0.0)).place(), Some(1));
 //! ```
 
-use super::tracker::TrackerConfig;
+use super::tracker::{undecided, unless_unsupported, TrackerConfig};
 use crate::grid::dilate::{dilate_line, Profile};
 use crate::io::record::Odometry;
 use crate::logic::{
@@ -302,14 +302,7 @@ impl GridTracker {
         self.pending_flank = 0.0;
         self.between = 1.0;
         self.dist = PlaceDistribution::new(self.n);
-        self.decision = if self.n == 0 {
-            Decision::Disoriented(Disoriented::NoPlaces)
-        } else {
-            Decision::Disoriented(Disoriented::NothingAboveThreshold {
-                best: 0,
-                support: 0.0,
-            })
-        };
+        self.decision = undecided(self.n);
     }
 
     /// Grid size in cells `(nx, ny)`, the cell side and the lower-left corner (metres).
@@ -590,13 +583,8 @@ impl GridTracker {
         self.dist.height = if hd.is_finite() { hd.min(1.0) } else { 0.0 };
         self.dist.inconsistency = 1.0 - self.dist.height;
         self.decision = decide(&self.dist, self.params);
-        if max_support < self.min_support {
-            if let Decision::Place { place, .. } = self.decision {
-                self.decision = Decision::Disoriented(Disoriented::NothingAboveThreshold {
-                    best: place,
-                    support: get(&evidence.support, place, 0.0),
-                });
-            }
-        }
+        self.decision = unless_unsupported(self.decision, max_support, self.min_support, |k| {
+            get(&evidence.support, k, 0.0)
+        });
     }
 }

@@ -123,6 +123,38 @@ impl PlaceTracker {
     }
 }
 
+/// A tracker's decision before any frame: disoriented (no place at all if the map has none).
+pub(super) fn undecided(n: usize) -> Decision {
+    if n == 0 {
+        Decision::Disoriented(Disoriented::NoPlaces)
+    } else {
+        Decision::Disoriented(Disoriented::NothingAboveThreshold {
+            best: 0,
+            support: 0.0,
+        })
+    }
+}
+
+/// A tracked decision stands only if some place has support ≥ `min_support` in the frame:
+/// tracking sharpens evidence, it does not announce a place from odometry alone. `support` is
+/// the chosen place's support.
+pub(super) fn unless_unsupported(
+    d: Decision,
+    max_support: f64,
+    min_support: f64,
+    support: impl Fn(usize) -> f64,
+) -> Decision {
+    match d {
+        Decision::Place { place, .. } if max_support < min_support => {
+            Decision::Disoriented(Disoriented::NothingAboveThreshold {
+                best: place,
+                support: support(place),
+            })
+        }
+        d => d,
+    }
+}
+
 /// Tracker parameters, loadable from RON (every field optional; defaults below).
 ///
 /// ```ron
@@ -502,14 +534,7 @@ impl Tracker {
         self.heading = None;
         self.pred.fill(1.0);
         self.dist = PlaceDistribution::new(self.n);
-        self.decision = if self.n == 0 {
-            Decision::Disoriented(Disoriented::NoPlaces)
-        } else {
-            Decision::Disoriented(Disoriented::NothingAboveThreshold {
-                best: 0,
-                support: 0.0,
-            })
-        };
+        self.decision = undecided(self.n);
     }
 
     /// The configuration.
@@ -646,14 +671,9 @@ impl Tracker {
         }
 
         self.decision = decide(&self.dist, self.params);
-        if max_support < self.cfg.min_support {
-            if let Decision::Place { place, .. } = self.decision {
-                self.decision = Decision::Disoriented(Disoriented::NothingAboveThreshold {
-                    best: place,
-                    support: ev(&evidence.support, place, 0.0),
-                });
-            }
-        }
+        self.decision = unless_unsupported(self.decision, max_support, self.cfg.min_support, |k| {
+            ev(&evidence.support, k, 0.0)
+        });
         self.decision
     }
 
