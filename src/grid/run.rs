@@ -106,7 +106,7 @@ impl Localizer for GridLocalizer {
     /// estimated heading when it is reliable, as [`FuzzyGrid::apply_pending`] would shift the
     /// grid). The belief itself is left alone: applying the motion here, on every frame, split
     /// it into per-frame blurs of a few centimetres, each below what one dilation pass reaches
-    /// on a 0.1 m grid and dropped, so the grid was never blurred between readings.
+    /// on a 0.1 m grid and dropped.
     fn estimate(&mut self) -> PoseEstimate {
         let e = self.grid.estimate();
         let [f, l, t] = self.moved;
