@@ -220,6 +220,8 @@ struct RmclCounts {
     sampled: usize,
     /// Frames with readings whose estimate fell back to the grid's.
     fallbacks: usize,
+    /// Frames without readings whose estimate is the mean of the carried samples.
+    carried: usize,
 }
 
 /// Runs `loc` over `frames` through a fresh [`Drive`]; the duration is the wall time of the
@@ -274,6 +276,7 @@ fn run_method(
                 rmcl: Some(RmclCounts {
                     sampled: r.sampled(),
                     fallbacks: r.fallbacks(),
+                    carried: r.carried(),
                 }),
                 ..ran
             }
@@ -600,8 +603,8 @@ fn print_table(
         if let Some(c) = r.rmcl {
             writeln!(
                 out,
-                "\n{}: estimate from samples in {} of {} frames, the grid's after a failed sampling in {}, the grid's (no readings) in the rest",
-                r.method, c.sampled, r.frames, c.fallbacks
+                "\n{}: estimate from fresh samples in {} of {} frames, from samples carried by odometry in {}, the grid's after a failed sampling in {}, the grid's (no samples yet) in the rest",
+                r.method, c.sampled, r.frames, c.carried, c.fallbacks
             )?;
         }
     }
