@@ -44,7 +44,8 @@
 //! # Complexity
 //!
 //! Per frame: the grid's own cost, plus O(cells · readings) to pick the best cells and
-//! O(max_cells · samples_per_cell · readings) for the samples; memory O(cells) (the grid).
+//! O(max_cells · samples_per_cell · readings) for the samples; per odometry increment
+//! O(carried samples), at most max_cells · samples_per_cell; memory O(cells) (the grid).
 //!
 //! # Example
 //!
