@@ -73,6 +73,7 @@
 //! ```
 
 use super::tracker::{undecided, unless_unsupported, TrackerConfig};
+use crate::grid::cells::raw_max;
 use crate::grid::dilate::{dilate_line, Profile};
 use crate::io::record::Odometry;
 use crate::logic::{
@@ -173,6 +174,8 @@ pub struct GridTracker {
     factor: Vec<f32>,
     /// Per place (and, last, between places), the largest cell after normalisation.
     top: Vec<f32>,
+    /// Per run, its largest cell after the evidence.
+    run_top: Vec<f32>,
     /// The running maximum of a dilation by levels.
     running: Vec<f32>,
     /// The belief `g`, row-major.
@@ -262,6 +265,7 @@ impl GridTracker {
                 start = k;
             }
         }
+        let n_runs = runs.len();
         let longest = nx.max(ny);
         let mut t = GridTracker {
             cfg: grid,
@@ -277,6 +281,7 @@ impl GridTracker {
             runs,
             factor: vec![1.0; n + 1],
             top: vec![1.0; n + 1],
+            run_top: vec![0.0; n_runs],
             running: vec![0.0; nx * ny],
             g: vec![1.0; nx * ny],
             scratch: vec![0.0; nx * ny],
@@ -531,30 +536,44 @@ impl GridTracker {
         if let Some(f) = self.factor.get_mut(n) {
             *f = ((1.0 - max_support).max(self.bias)) as f32;
         }
+        // Multiply each run by its factor and keep the run's largest value: normalising is
+        // monotone, so a run's largest value afterwards is the normalised one of this, and the
+        // plane needs no third pass. Maxima as selects (`raw_max`), not `f32::max`, whose NaN
+        // rule keeps the loops from vectorising (no cell is NaN: every factor is finite).
         let mut h = 0.0f32;
-        for &(start, end, l) in &self.runs {
+        for (top, &(start, end, l)) in self.run_top.iter_mut().zip(&self.runs) {
             let f = self.factor.get(l).copied().unwrap_or(b);
-            let mut m = 0.0f32;
-            for v in &mut self.g[start..end] {
+            let run = &mut self.g[start..end];
+            for v in run.iter_mut() {
                 *v *= f;
-                m = m.max(*v);
             }
-            h = h.max(m);
+            *top = raw_max(run);
+            h = if *top > h { *top } else { h };
         }
         let floor = self.cfg.floor as f32;
-        if h > 0.0 && h.is_finite() {
-            let inv = 1.0 / h;
+        let normal = h > 0.0 && h.is_finite();
+        let inv = if normal { 1.0 / h } else { 0.0 };
+        let norm = |v: f32| {
+            let x = v * inv;
+            let x = if x > floor { x } else { floor };
+            if x < 1.0 {
+                x
+            } else {
+                1.0
+            }
+        };
+        if normal {
             for v in &mut self.g {
-                *v = (*v * inv).max(floor).min(1.0);
+                *v = norm(*v);
             }
         } else {
             self.g.fill(1.0);
         }
         self.top.fill(0.0);
-        for &(start, end, l) in &self.runs {
-            let m = self.g[start..end].iter().fold(0.0f32, |a, &v| a.max(v));
+        for (&m, &(_, _, l)) in self.run_top.iter().zip(&self.runs) {
+            let m = if normal { norm(m) } else { 1.0 };
             if let Some(t) = self.top.get_mut(l) {
-                *t = t.max(m);
+                *t = if m > *t { m } else { *t };
             }
         }
         for (p, &t) in self.dist.possibility_raw.iter_mut().zip(&self.top) {

@@ -224,22 +224,51 @@ pub struct CompassRecord {
 /// # Complexity
 /// `O(n)` in the number of beams plus 90 bins; no allocation.
 pub fn orientation(scan: &ScanView<'_>, cfg: &CompassConfig) -> Option<(f64, f64)> {
+    let mut local = Vec::with_capacity(scan.ranges.len());
+    local_points(scan, cfg, &mut Vec::new(), &mut local);
+    orientation_of(&local, cfg)
+}
+
+/// The scan's beams as points in the robot frame (`None` where a beam has no valid return),
+/// into `out`. `dirs` caches each beam's `(cos, sin)` for the scan's geometry, recomputed
+/// only when the beam count changes (the bearings of a scan are `first + i · step`, the same
+/// for every scan of a log), so a scan costs no trigonometry.
+fn local_points(
+    scan: &ScanView<'_>,
+    cfg: &CompassConfig,
+    dirs: &mut Vec<(f64, f64, f64)>,
+    out: &mut Vec<Option<(f64, f64)>>,
+) {
+    out.clear();
+    if !(scan.bearing_step.is_finite() && scan.first_bearing.is_finite()) {
+        return;
+    }
+    let n = scan.ranges.len();
+    let stale = dirs.len() != n
+        || dirs.first().is_some_and(|d| d.2 != scan.first_bearing)
+        || dirs
+            .get(1)
+            .is_some_and(|d| d.2 != scan.first_bearing + scan.bearing_step);
+    if stale {
+        dirs.clear();
+        dirs.extend((0..n).map(|i| {
+            let b = scan.first_bearing + i as f64 * scan.bearing_step;
+            (b.cos(), b.sin(), b)
+        }));
+    }
+    out.extend(scan.ranges.iter().zip(dirs.iter()).map(|(&r, &(c, s, _))| {
+        (r.is_finite() && r >= cfg.min_range_m && r < cfg.max_range_m)
+            .then(|| (scan.laser_offset_x + r * c, r * s))
+    }));
+}
+
+/// [`orientation`] from the scan's points in the robot frame.
+fn orientation_of(points: &[Option<(f64, f64)>], cfg: &CompassConfig) -> Option<(f64, f64)> {
     let mut hist = [0.0f64; 90];
     let mut total = 0.0;
-    let n = scan.ranges.len();
-    let point = |i: usize| -> Option<(f64, f64)> {
-        let r = *scan.ranges.get(i)?;
-        if !(r.is_finite() && r >= cfg.min_range_m && r < cfg.max_range_m) {
-            return None;
-        }
-        let b = scan.first_bearing + i as f64 * scan.bearing_step;
-        Some((scan.laser_offset_x + r * b.cos(), r * b.sin()))
-    };
-    if !(scan.bearing_step.is_finite() && scan.first_bearing.is_finite()) {
-        return None;
-    }
+    let n = points.len();
     for i in 0..n.saturating_sub(cfg.stride) {
-        let (Some(a), Some(b)) = (point(i), point(i + cfg.stride)) else {
+        let (Some(a), Some(b)) = (points[i], points[i + cfg.stride]) else {
             continue;
         };
         let (dx, dy) = (b.0 - a.0, b.1 - a.1);
@@ -299,6 +328,10 @@ pub struct CompassTracker {
     travelled: f64,
     /// The rays of every direction's fan (see [`Rays`]).
     rays: Rays,
+    /// Each beam's `(cos, sin, bearing)` for the scans' geometry (see [`local_points`]).
+    dirs: Vec<(f64, f64, f64)>,
+    /// The current scan's points in the robot frame.
+    local: Vec<Option<(f64, f64)>>,
     /// Per ray, the `rank` nearest distances found so far (ascending; `∞` = none yet).
     nearest: Vec<f64>,
     /// The last step's percepts, in [`DIRECTIONS`] order (the first `directions` are used).
@@ -321,6 +354,8 @@ impl CompassTracker {
             drift: 0.0,
             travelled: 0.0,
             rays: Rays::new(&cfg),
+            dirs: Vec::new(),
+            local: Vec::new(),
             nearest: Vec::new(),
             out: [CompassRecord {
                 direction: "East",
@@ -373,7 +408,8 @@ impl CompassTracker {
             + self.cfg.gate_growth_deg * f64::from(self.unlocked))
         .min(40.0);
         self.unlocked = self.unlocked.saturating_add(1);
-        if let Some((alpha, share)) = orientation(scan, &self.cfg) {
+        local_points(scan, &self.cfg, &mut self.dirs, &mut self.local);
+        if let Some((alpha, share)) = orientation_of(&self.local, &self.cfg) {
             let gate = if share >= self.cfg.min_peak_fraction {
                 Some(gate)
             } else if share >= self.cfg.weak_peak_fraction {
@@ -426,6 +462,7 @@ impl CompassTracker {
         }
     }
 
+    /// Keeps this scan's points (`local`, robot frame) in the map frame at `pose`.
     fn remember(&mut self, scan: &ScanView<'_>, pose: &Pose2) {
         let cap = self.cfg.history_scans;
         if self.history.len() < cap {
@@ -439,12 +476,7 @@ impl CompassTracker {
         };
         buf.clear();
         let (s, c) = pose.theta.sin_cos();
-        for (i, &r) in scan.ranges.iter().enumerate() {
-            if !(r.is_finite() && r >= self.cfg.min_range_m && r < self.cfg.max_range_m) {
-                continue;
-            }
-            let b = scan.first_bearing + i as f64 * scan.bearing_step;
-            let (lx, ly) = (scan.laser_offset_x + r * b.cos(), r * b.sin());
+        for &(lx, ly) in self.local.iter().flatten() {
             buf.push((pose.x + c * lx - s * ly, pose.y + s * lx + c * ly));
         }
     }
@@ -459,32 +491,52 @@ impl CompassTracker {
         let (band, cap) = (self.cfg.band_m, self.cfg.cap_m);
         self.nearest.clear();
         self.nearest.resize(self.rays.len() * k, f64::INFINITY);
-        let pi = std::f64::consts::PI;
-        let band2 = band * band;
-        for p in self.history.iter().flatten() {
+        // The window is worked out in f32 (it only prunes; the margin of 1e-3 rad covers the
+        // approximations, f32 rounding included), the test itself in f64 as written.
+        let pi = std::f32::consts::PI;
+        let (band32, band2) = (band as f32, (band * band) as f32);
+        // A point farther than this cannot be within the band at less than the cap.
+        let far2 = cap * cap + band * band;
+        let Self {
+            history,
+            rays,
+            nearest,
+            ..
+        } = self;
+        for p in history.iter().flatten() {
             let (vx, vy) = (p.0 - pose.x, p.1 - pose.y);
             let r2 = vx * vx + vy * vy;
-            if r2.is_nan() || r2 <= 0.0 {
+            if r2.is_nan() || r2 <= 0.0 || r2 > far2 {
                 continue;
             }
-            // The window only prunes, so it may be wider than exact: the angle comes from an
-            // approximation good to 1e-5 rad, and tan(asin(x)) = x/√(1 − x²) ≥ asin(x); the
-            // margin covers both.
-            let theta = approx_atan2(vy, vx);
-            let w = if r2 > band2 {
-                (band / (r2 - band2).sqrt()).min(0.5 * pi) + 1e-3
+            // tan(asin(x)) = x/√(1 − x²) ≥ asin(x): the window is never too narrow.
+            let theta = approx_atan2(vy as f32, vx as f32);
+            let r2f = r2 as f32;
+            let w = if r2f > band2 {
+                (band32 / (r2f - band2).sqrt()).min(0.5 * pi) + 1e-3
             } else {
                 0.5 * pi + 1e-3
             };
-            for seg in circle_segments(theta - w, theta + w) {
-                for ray in self.rays.within(seg) {
-                    let (ux, uy) = self.rays.unit[ray];
+            let mut visit = |lo: f32, hi: f32| {
+                for ray in rays.within(lo, hi) {
+                    let (ux, uy) = rays.unit[ray];
                     let a = vx * ux + vy * uy;
                     let perp = (vy * ux - vx * uy).abs();
                     if a > 0.0 && perp <= band && a < cap {
-                        insert_sorted(&mut self.nearest[ray * k..(ray + 1) * k], a);
+                        insert_sorted(&mut nearest[ray * k..(ray + 1) * k], a);
                     }
                 }
+            };
+            // The arc [θ − w, θ + w] as at most two intervals within [−π, π).
+            let (lo, hi) = (theta - w, theta + w);
+            if lo < -pi {
+                visit(lo + 2.0 * pi, pi);
+                visit(-pi, hi);
+            } else if hi >= pi {
+                visit(lo, pi);
+                visit(-pi, hi - 2.0 * pi);
+            } else {
+                visit(lo, hi);
             }
         }
     }
@@ -503,8 +555,8 @@ impl CompassTracker {
 /// `d ± step`, `d ± 2·step`, … within `±fan_deg`, sorted by angle for [`Rays::within`].
 #[derive(Debug, Clone)]
 struct Rays {
-    /// Angle of each ray in `[−π, π)`, ascending.
-    angle: Vec<f64>,
+    /// Angle of each ray in `[−π, π)`, ascending (f32: for pruning only).
+    angle: Vec<f32>,
     /// Unit vector of each ray (from its angle as written, before wrapping).
     unit: Vec<(f64, f64)>,
     /// Direction of each ray (index into [`DIRECTIONS`]).
@@ -514,8 +566,9 @@ struct Rays {
     first: Vec<usize>,
 }
 
-/// Width of the bins of [`Rays::first`], radians (half a degree).
-const BIN: f64 = std::f64::consts::PI / 360.0;
+/// Bins of [`Rays::first`] over the circle, and their width in radians (half a degree).
+const BINS: usize = 720;
+const BIN: f32 = std::f32::consts::PI / 360.0;
 
 impl Rays {
     fn new(cfg: &CompassConfig) -> Rays {
@@ -535,10 +588,10 @@ impl Rays {
             }
         }
         rays.sort_by(|x, y| x.0.total_cmp(&y.0));
-        let angle: Vec<f64> = rays.iter().map(|r| r.0).collect();
-        let pi = std::f64::consts::PI;
-        let first = (0..=720)
-            .map(|b| angle.partition_point(|&a| a < -pi + f64::from(b) * BIN))
+        let angle: Vec<f32> = rays.iter().map(|r| r.0 as f32).collect();
+        let pi = std::f32::consts::PI;
+        let first = (0..=BINS)
+            .map(|b| angle.partition_point(|&a| a < -pi + b as f32 * BIN))
             .collect();
         Rays {
             angle,
@@ -554,10 +607,9 @@ impl Rays {
 
     /// The rays whose angle lies in `[lo, hi]` (within `[−π, π)`): from the bin of `lo`, a
     /// short walk to the first ray at or above it, then on while at or below `hi`.
-    fn within(&self, (lo, hi): (f64, f64)) -> std::ops::Range<usize> {
-        let pi = std::f64::consts::PI;
+    fn within(&self, lo: f32, hi: f32) -> std::ops::Range<usize> {
         // Truncation is the floor here (the argument is ≥ 0); `as` saturates, NaN gives 0.
-        let bin = (((lo + pi) / BIN).max(0.0) as usize).min(720);
+        let bin = (((lo + std::f32::consts::PI) * (1.0 / BIN)).max(0.0) as usize).min(BINS);
         let n = self.angle.len();
         let mut start = self.first.get(bin).copied().unwrap_or(n).min(n);
         while start < n && self.angle[start] < lo {
@@ -576,23 +628,10 @@ impl Rays {
     }
 }
 
-/// The arc `[lo, hi]` (radians, `hi − lo ≤ π` plus a hair) as at most two intervals within
-/// `[−π, π)`.
-fn circle_segments(lo: f64, hi: f64) -> impl Iterator<Item = (f64, f64)> {
-    let pi = std::f64::consts::PI;
-    let (first, second) = if lo < -pi {
-        ((-pi, hi), Some((lo + 2.0 * pi, pi)))
-    } else if hi >= pi {
-        ((lo, pi), Some((-pi, hi - 2.0 * pi)))
-    } else {
-        ((lo, hi), None)
-    };
-    std::iter::once(first).chain(second)
-}
-
-/// `atan2(y, x)` to within 1e-5 rad (a minimax polynomial for `atan` on [−1, 1]), several
-/// times cheaper than the library's; for pruning only (see [`CompassTracker::free_ranges`]).
-fn approx_atan2(y: f64, x: f64) -> f64 {
+/// `atan2(y, x)` to within 1e-5 rad (a minimax polynomial for `atan` on [−1, 1]; in f32, to
+/// within 1e-5 rad plus rounding), several times cheaper than the library's; for pruning only
+/// (see [`CompassTracker::free_ranges`]).
+fn approx_atan2(y: f32, x: f32) -> f32 {
     let (ax, ay) = (x.abs(), y.abs());
     let (num, den, swap) = if ay > ax {
         (ax, ay, true)
@@ -609,7 +648,7 @@ fn approx_atan2(y: f64, x: f64) -> f64 {
             + z2 * (-0.332_623_47
                 + z2 * (0.193_543_46
                     + z2 * (-0.116_432_87 + z2 * (0.052_653_32 - 0.011_721_20 * z2)))));
-    let pi = std::f64::consts::PI;
+    let pi = std::f32::consts::PI;
     let t = if swap { 0.5 * pi - t } else { t };
     let t = if x < 0.0 { pi - t } else { t };
     if y < 0.0 {
