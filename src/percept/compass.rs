@@ -258,7 +258,7 @@ fn local_points(
     }
     out.extend(scan.ranges.iter().zip(dirs.iter()).map(|(&r, &(c, s, _))| {
         (r.is_finite() && r >= cfg.min_range_m && r < cfg.max_range_m)
-            .then(|| (scan.laser_offset_x + r * c, r * s))
+            .then_some((scan.laser_offset_x + r * c, r * s))
     }));
 }
 
@@ -647,7 +647,7 @@ fn approx_atan2(y: f32, x: f32) -> f32 {
         * (0.999_977_26
             + z2 * (-0.332_623_47
                 + z2 * (0.193_543_46
-                    + z2 * (-0.116_432_87 + z2 * (0.052_653_32 - 0.011_721_20 * z2)))));
+                    + z2 * (-0.116_432_87 + z2 * (0.052_653_32 - 0.011_721_2 * z2)))));
     let pi = std::f32::consts::PI;
     let t = if swap { 0.5 * pi - t } else { t };
     let t = if x < 0.0 { pi - t } else { t };
