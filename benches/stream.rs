@@ -67,7 +67,7 @@ fn eval(engine: &mut Engine, bytes: &[u8], track: bool, threads: Threads) -> u64
                 Record::Frame(frame, meta) => {
                     engine.step(frame);
                     let d = match &mut tracker {
-                        Some(t) => t.step(engine.distribution(), meta.odometry),
+                        Some(t) => t.step(engine.distribution(), meta.odometry, meta.heading),
                         None => engine.decision(),
                     };
                     tally.record(d, meta);

@@ -139,9 +139,10 @@ fn main() -> Res<()> {
             &frames,
         )?;
         let notes = format!(
-            "kidnap run: {} fallbacks, {} sampled frames",
+            "kidnap run: {} fallbacks, {} sampled frames, {} carried frames",
             rmcl.fallbacks(),
-            rmcl.sampled()
+            rmcl.sampled(),
+            rmcl.carried()
         );
         row("Fuzzy R-MCL", p, k, ms, notes);
         let gcfg = GridConfig {

@@ -98,6 +98,54 @@ fn qualifying_samples_refine_the_position() {
 }
 
 #[test]
+fn samples_are_carried_by_odometry_until_a_fallback() {
+    let t = table();
+    let mut rmcl = FuzzyRmcl::new(&t, &RmclConfig::default(), &grid_cfg(), BOUNDS, 1).unwrap();
+    let mut grid = GridLocalizer::new(&t, &grid_cfg()).unwrap();
+    let theta = 0.3f32;
+    let mut before = rmcl.estimate();
+    for _ in 0..4 {
+        for o in readings(2.03, 3.07, theta) {
+            rmcl.observe(&t, &o).unwrap();
+            grid.observe(&t, &o).unwrap();
+        }
+        before = rmcl.estimate();
+        grid.estimate();
+    }
+    assert!(rmcl.sampled() > 0);
+    // 0.2 m ahead: each sample moves along its own heading, the centre of its cell's heading
+    // set, which the exact bearings put within the bearing core (±0.03 rad) of 0.3 rad; so the
+    // mean moves by 0.2 m along 0.3 rad, to within 0.2 · 0.03 m plus rounding.
+    let m = Motion {
+        forward: 0.2,
+        lateral: 0.0,
+        turn: 0.0,
+        dt: 1.0,
+    };
+    rmcl.predict(&m).unwrap();
+    grid.predict(&m).unwrap();
+    let after = rmcl.estimate();
+    assert_eq!(rmcl.carried(), 1);
+    let (dx, dy) = (after.pose.x - before.pose.x, after.pose.y - before.pose.y);
+    let (ex, ey) = (0.2 * (theta as f64).cos(), 0.2 * (theta as f64).sin());
+    assert!((dx - ex).hypot(dy - ey) < 0.01, "moved ({dx:.4}, {dy:.4})");
+    // A fallback drops the carried samples: the next frame without readings is the grid's.
+    let o = Observation {
+        landmark: 1,
+        range: Some(40.0),
+        bearing: Some(0.0),
+    };
+    rmcl.observe(&t, &o).unwrap();
+    grid.observe(&t, &o).unwrap();
+    rmcl.estimate();
+    grid.estimate();
+    rmcl.predict(&m).unwrap();
+    grid.predict(&m).unwrap();
+    assert_eq!(rmcl.estimate(), grid.estimate());
+    assert_eq!(rmcl.carried(), 1);
+}
+
+#[test]
 fn converges_and_is_deterministic_on_a_simulated_run() {
     let frames = baseline_sim::run(300, 11);
     let go = |seed| {

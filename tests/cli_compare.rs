@@ -367,7 +367,21 @@ fn mrclam_robot1_grid_and_small_pf() {
     let fpg = &rows[0];
     assert_eq!(fpg["frames"].as_u64(), Some(2745), "{fpg}");
     let rmse = fpg["ate"]["rmse"].as_f64().unwrap();
-    assert!((rmse - 0.280).abs() < 0.0005, "{fpg}");
+    assert!((rmse - 0.213).abs() < 0.0005, "{fpg}");
+    // The common window starts at the latest first fix, the same for every row, and holds
+    // no more frames than any row's own window.
+    let latest = rows
+        .iter()
+        .map(|r| r["first_fix"].as_f64().unwrap())
+        .fold(f64::NEG_INFINITY, f64::max);
+    for r in rows {
+        let from = r["common_from"].as_f64().unwrap();
+        assert!((from - latest).abs() < 1e-6, "{r}");
+        assert!(
+            r["ate_common"]["count"].as_u64() <= r["ate"]["count"].as_u64(),
+            "{r}"
+        );
+    }
     for r in rows {
         // Every method localizes robot 1 to well under the 15 m × 8 m arena's scale.
         let rmse = r["ate"]["rmse"].as_f64().unwrap_or(f64::INFINITY);

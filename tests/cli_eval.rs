@@ -188,6 +188,11 @@ fn exit_3_and_line_numbers_for_each_bad_input_kind() {
         ),
         ("version", r#"{"version":9,"percepts":[]}"#, "version 9"),
         (
+            "heading",
+            r#"{"heading":"NaN","percepts":[]}"#,
+            "heading is NaN",
+        ),
+        (
             "truth",
             r#"{"percepts":[],"truth":{"place":"P99"}}"#,
             "unknown truth place",
@@ -214,12 +219,9 @@ fn exit_3_and_line_numbers_for_each_bad_input_kind() {
     }
 }
 
-#[test]
-fn csv_stream_with_nan_cell() {
-    let s = temp(
-        "nan.csv",
-        "t,deg:sonar_wall(North),deg:beacon_angle,val:beacon_angle\n0,0.9,,\n0.1,0.8,0.7,nan\n",
-    );
+/// `eval` on a stream file `name` holding `text` exits 3 and reports `LINE: reason`.
+fn rejects(name: &str, text: &str, line_and_reason: &str) {
+    let s = temp(name, text);
     let path = s.display().to_string();
     lplace()
         .arg("eval")
@@ -227,8 +229,33 @@ fn csv_stream_with_nan_cell() {
         .assert()
         .code(3)
         .stderr(predicates::str::contains(format!(
-            "{path}:3: value of beacon_angle is NaN"
+            "{path}:{line_and_reason}"
         )));
+}
+
+#[test]
+fn csv_stream_with_nan_cell() {
+    rejects(
+        "nan.csv",
+        "t,deg:sonar_wall(North),deg:beacon_angle,val:beacon_angle\n0,0.9,,\n0.1,0.8,0.7,nan\n",
+        "3: value of beacon_angle is NaN",
+    );
+}
+
+/// A heading column in CSV, and a heading in JSON, are read (and a bad one reported).
+#[test]
+fn heading_in_csv_and_json() {
+    rejects(
+        "heading.csv",
+        "t,dx,heading,deg:sonar_wall(North)\n0,0,90,0.9\n0.1,0.3,inf,0.8\n",
+        "3: heading is not finite",
+    );
+    lplace()
+        .args(["eval", "-", "--summary", "none"])
+        .write_stdin(format!("{{\"heading\":12.5,{}\n", &AT_P1[1..]))
+        .assert()
+        .success()
+        .stdout(predicates::str::contains(r#""place":"P1""#));
 }
 
 #[test]

@@ -3,6 +3,21 @@
 
 use assert_cmd::Command;
 
+/// The summary of `eval -` on `stream` with `extra` flags.
+fn eval_summary(stream: &[u8], extra: &[&str]) -> serde_json::Value {
+    let out = Command::cargo_bin("lplace")
+        .unwrap()
+        .args(["eval", "-", "--only-summary", "--summary", "json"])
+        .args(extra)
+        .write_stdin(stream.to_vec())
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    serde_json::from_slice(&out).unwrap()
+}
+
 fn simulate(args: &[&str]) -> Vec<u8> {
     Command::cargo_bin("lplace")
         .unwrap()
@@ -52,17 +67,7 @@ fn kidnap_recovery_with_tracking() {
         "300,700,1100",
     ]);
     let run = |extra: &[&str]| -> Vec<u64> {
-        let out = Command::cargo_bin("lplace")
-            .unwrap()
-            .args(["eval", "-", "--only-summary", "--summary", "json"])
-            .args(extra)
-            .write_stdin(stream.clone())
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone();
-        let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+        let v = eval_summary(&stream, extra);
         assert_eq!(v["truth"]["kidnaps"], 3, "{v}");
         v["truth"]["kidnap_events"]
             .as_array()
@@ -77,6 +82,56 @@ fn kidnap_recovery_with_tracking() {
         assert!(
             *t <= s + 3,
             "tracked {tracked:?} vs frame by frame {single:?}"
+        );
+    }
+}
+
+/// `--heading-noise` adds a compass heading to every frame (deterministically), leaves streams
+/// made without it byte for byte as they were, and with it both trackers relocalize after each
+/// kidnap: the graph tracker's displacement gates within a few frames at a place, the metric
+/// grid tracker — whose floor (0.001) must be outgrown by repeated evidence, 5 frames in the
+/// hand-worked case of tests/engine_grid_tracker.rs — within twenty.
+#[test]
+fn heading_stream_and_kidnaps_with_both_trackers() {
+    let args = [
+        "--steps",
+        "1500",
+        "--seed",
+        "7",
+        "--kidnap-at",
+        "300,700,1100",
+    ];
+    let plain = simulate(&args);
+    let with: Vec<&str> = args
+        .iter()
+        .copied()
+        .chain(["--heading-noise", "3"])
+        .collect();
+    let a = simulate(&with);
+    assert_eq!(a, simulate(&with), "deterministic");
+    assert!(!String::from_utf8_lossy(&plain).contains("\"heading\""));
+    let text = String::from_utf8(a.clone()).unwrap();
+    assert!(
+        text.lines().all(|l| l.contains("\"heading\":")),
+        "every frame"
+    );
+    let grid = std::env::temp_dir().join(format!("lplace-grid-{}.ron", std::process::id()));
+    std::fs::write(&grid, "(grid: Some(()))").unwrap();
+    for (label, extra) in [
+        ("graph", vec![]),
+        ("grid", vec!["--tracker", grid.to_str().unwrap()]),
+    ] {
+        let v = eval_summary(&a, &extra);
+        assert_eq!(v["truth"]["kidnaps"], 3, "{label}: {v}");
+        let bound = if label == "graph" { 5 } else { 20 };
+        for k in v["truth"]["kidnap_events"].as_array().unwrap() {
+            let at = k["recovered_after_at_place"].as_u64().expect("recovered");
+            assert!(at <= bound, "{label}: {k}");
+        }
+        // Neither tracker is often wrong on this map.
+        assert!(
+            v["truth"]["wrong_rate"].as_f64().unwrap() < 0.02,
+            "{label}: {v}"
         );
     }
 }

@@ -146,3 +146,46 @@ fn eq7_by_hand() {
     assert_eq!(s("P3"), 0.0);
     assert_eq!(s("P0"), 0.0);
 }
+
+/// A place may expect a range of values (`param W = 1.5 .. 2.5;`): a reading inside it is a full
+/// match, one outside is compared with the nearest end. Worked with a 1-m core (±0.5) and 2-m
+/// slope: readings 2.0 and 2.9 match fully (inside; 0.4 beyond the end, within ±0.5), 3.5 is 1.0
+/// beyond, 0.5 into the slope, μ = 1 − 0.5/2 = 0.75; 5.5 is 3.0 beyond, past the slope: 0. The
+/// single-valued place B (W = 2) sees 2.9 at 0.9, 0.4 into the slope: μ = 0.8.
+#[test]
+fn expected_ranges_by_hand() {
+    let map = SourceFile::new(
+        "m.map",
+        "map m; place A corridor at (0, 0) { param W = 1.5 .. 2.5; } \
+         place B corridor at (5, 0) { param W = 2; } path A -- B;",
+    );
+    let rules = SourceFile::new(
+        "r.lpl",
+        "logic { tnorm = min; implication = residuum; normalisation = min; threshold = 0.5; }
+         similarity width = trapezoid(core: 1, slope: 2, height: 1, bias: 0);
+         percept width(value, expect, time) ~ width;
+         |- width(w, W_i, t) -> at_place(P_i);",
+    );
+    let mut e = match Engine::load(&map, &rules) {
+        Ok(e) => e,
+        Err(e) => panic!("{e}: {:#?}", e.diagnostics),
+    };
+    let slot = e.percepts().slot("width", &[]).expect("declared");
+    let mut frame = e.new_frame();
+    for (reading, want_a, want_b) in [
+        (2.0, 1.0, 1.0),
+        (2.9, 1.0, 0.8),
+        (3.5, 0.75, 0.5),
+        (5.5, 0.0, 0.0),
+    ] {
+        frame.clear();
+        frame.set(slot, 1.0, Some(reading));
+        e.step(&frame);
+        let s = &e.distribution().support;
+        assert!((s[0] - want_a).abs() < 1e-12, "A at {reading}: {}", s[0]);
+        assert!((s[1] - want_b).abs() < 1e-12, "B at {reading}: {}", s[1]);
+    }
+    // `explain` prints the range.
+    let text = e.explain_place(0).expect("place A");
+    assert!(text.contains("1.5..2.5"), "{text}");
+}

@@ -13,6 +13,9 @@ use proptest::prelude::*;
 
 const FIELD_MAP: &str = include_str!("../maps/field.map");
 const FIELD_RULES: &str = include_str!("../rules/field.lpl");
+// Expected ranges (`param free(North) = a .. b;`) and a negated derived atom.
+const INTEL_MAP: &str = include_str!("../maps/intel.map");
+const INTEL_RULES: &str = include_str!("../rules/intel.lpl");
 
 fn model(map: &str, rules: &str, tnorm: &str, implication: &str) -> (Map, RuleSet) {
     let map = Map::from_ast(&parse_map(map).expect("map parses")).expect("map checks");
@@ -50,7 +53,13 @@ fn cells() -> impl Strategy<Value = Vec<(f64, f64)>> {
     // Values over the range of the maps' expectations (angles 0–360°, distances 0–10 m), with
     // some exactly-missing and some hostile entries.
     let degree = prop_oneof![8 => 0.0..=1.0f64, 1 => Just(0.0), 1 => Just(1.0)];
-    let value = prop_oneof![6 => 0.0..360.0f64, 3 => 0.0..10.0f64, 1 => Just(f64::NAN)];
+    // … and ln(metres) for the Intel map's free ranges.
+    let value = prop_oneof![
+        6 => 0.0..360.0f64,
+        3 => 0.0..10.0f64,
+        3 => -3.0..3.0f64,
+        1 => Just(f64::NAN)
+    ];
     prop::collection::vec((degree, value), 64)
 }
 
@@ -65,11 +74,20 @@ fn example() -> impl Strategy<Value = (&'static str, &'static str)> {
     prop::sample::select(vec![(OFFICE_MAP, OFFICE_RULES), (FIELD_MAP, FIELD_RULES)])
 }
 
+/// The examples, and the Intel lab's map and rules (expected ranges, a negated signature).
+fn every_example() -> impl Strategy<Value = (&'static str, &'static str)> {
+    prop::sample::select(vec![
+        (OFFICE_MAP, OFFICE_RULES),
+        (FIELD_MAP, FIELD_RULES),
+        (INTEL_MAP, INTEL_RULES),
+    ])
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(96))]
 
     #[test]
-    fn compiled_equals_interpreter((map, rules) in example(), (tn, imp) in operators(), cells in cells()) {
+    fn compiled_equals_interpreter((map, rules) in every_example(), (tn, imp) in operators(), cells in cells()) {
         let (map, rules) = model(map, rules, tn, imp);
         let mut engine = Engine::new(map.clone(), rules.clone(), &CompileOptions::default()).expect("compiles");
         let frame = frame_of(engine.percepts().len(), &cells);

@@ -1,28 +1,43 @@
-//! `Tracker::step` allocates nothing (its module docs promise it, and `eval` calls it once per
-//! frame): a counting global allocator watches a thousand steps, with evidence of the right and
-//! the wrong length, odometry that is large, zero or not finite, after the tracker is built.
+//! `Tracker::step` and `GridTracker::step` allocate nothing (their module docs promise it, and
+//! `eval` calls one of them once per frame): a counting global allocator watches hundreds of
+//! steps, with evidence of the right and the wrong length, odometry that is large, zero or not
+//! finite, headings known, missing or not finite, after the tracker is built.
 
 use lplace::engine::tracker::{Tracker, TrackerConfig};
 use lplace::engine::Engine;
 use lplace::io::record::Odometry;
 use lplace::logic::{DecisionParams, PlaceDistribution};
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::cell::Cell;
 
 struct Counting;
 
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    /// Allocations made by this thread: the test harness allocates on its own threads (and
+    /// the other test on its own) while a test measures.
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn allocations() -> usize {
+    ALLOCATIONS.with(Cell::get)
+}
+
+fn count() {
+    // `try_with`: a thread being torn down has no counter left, and its allocations do not
+    // matter here.
+    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+}
 
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        count();
         System.alloc(layout)
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
         System.dealloc(ptr, layout)
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        count();
         System.realloc(ptr, layout, new_size)
     }
 }
@@ -52,7 +67,7 @@ fn step_allocates_nothing() {
         })
         .collect();
     let steps = [0.3, 0.0, 25.0, f64::NAN, f64::INFINITY, 0.05];
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    let before = allocations();
     let mut chosen = 0usize;
     for k in 0..1000 {
         let odometry = Odometry {
@@ -60,16 +75,57 @@ fn step_allocates_nothing() {
             dy: 0.1,
             dtheta: 0.0,
         };
+        // Headings on most frames (displacement gates), none or not finite on some.
+        let heading = match k % 5 {
+            0 => None,
+            1 => Some(f64::NAN),
+            _ => Some((k as f64 * 7.0) % 360.0),
+        };
         if tracker
-            .step(&evidence[(k / 7) % evidence.len()], odometry)
+            .step(&evidence[(k / 7) % evidence.len()], odometry, heading)
             .place()
             .is_some()
         {
             chosen += 1;
         }
     }
-    let after = ALLOCATIONS.load(Ordering::SeqCst);
+    let after = allocations();
     assert_eq!(after - before, 0, "step allocated {} times", after - before);
     // Some frames decide and some do not: the loop did real work.
     assert!(chosen > 0 && chosen < 1000, "{chosen} decided");
+}
+
+#[test]
+fn grid_step_allocates_nothing() {
+    let engine = Engine::office().expect("office loads");
+    let n = engine.map().places().len();
+    let params = DecisionParams {
+        threshold: 0.5,
+        margin: 0.1,
+    };
+    let cfg = TrackerConfig {
+        grid: Some(lplace::engine::grid_tracker::GridTrackConfig::default()),
+        ..TrackerConfig::default()
+    };
+    let mut tracker = lplace::engine::tracker::PlaceTracker::new(engine.map(), params, cfg);
+    let mut evidence = PlaceDistribution::new(n);
+    evidence.support[2] = 0.9;
+    evidence.possibility.fill(0.3);
+    evidence.possibility[2] = 1.0;
+    let before = allocations();
+    let mut chosen = 0usize;
+    for k in 0..500 {
+        let odometry = Odometry {
+            dx: [0.3, 0.0, 25.0, f64::NAN][k % 4],
+            dy: 0.05,
+            dtheta: 3.0,
+        };
+        let heading = (k % 3 != 0).then_some(k as f64);
+        if tracker.step(&evidence, odometry, heading).place().is_some() {
+            chosen += 1;
+        }
+    }
+    let after = allocations();
+    assert_eq!(after - before, 0, "step allocated {} times", after - before);
+    assert!(chosen > 0, "{chosen} decided");
 }

@@ -4,6 +4,10 @@
 //! restructured order (gates as arrays, branch-free rows, terms hoisted out of the pair loops);
 //! max and min select exactly, so on random maps, configurations, evidence and odometry every
 //! decision and every degree must be bit-for-bit the reference's, frame after frame.
+//!
+//! With headings, the reference's displacement gate is the distance between the two extents
+//! written out per kind (disc–disc, disc–box, box–box), where the tracker treats every extent as
+//! a rounded box: the two must agree on every pair.
 
 use lplace::engine::tracker::{Tracker, TrackerConfig, TrackerState};
 use lplace::io::record::Odometry;
@@ -24,7 +28,57 @@ struct Reference {
     shape: Vec<Vec<Trapezoid>>,
     anchor: Vec<f64>,
     since: Vec<f64>,
+    /// Displacement since each anchor, `None` where unknown.
+    disp: Vec<Option<[f64; 2]>>,
+    /// Heading of the last frame, radians.
+    heading: Option<f64>,
+    extents: Vec<((f64, f64), Extent)>,
     dist: PlaceDistribution,
+}
+
+/// Distance from point `p` to the box `[x0, x1] × [y0, y1]` (0 inside).
+fn point_box(p: (f64, f64), x0: f64, y0: f64, x1: f64, y1: f64) -> f64 {
+    let dx = (x0 - p.0).max(p.0 - x1).max(0.0);
+    let dy = (y0 - p.1).max(p.1 - y1).max(0.0);
+    dx.hypot(dy)
+}
+
+/// Distance between extent `a` (at `pa`) moved by `d` and extent `b` (at `pb`); 0 if they meet.
+fn gap(pa: (f64, f64), a: Extent, d: [f64; 2], pb: (f64, f64), b: Extent) -> f64 {
+    let sorted =
+        |x0: f64, y0: f64, x1: f64, y1: f64| (x0.min(x1), y0.min(y1), x0.max(x1), y0.max(y1));
+    match (a, b) {
+        (Extent::Radius(ra), Extent::Radius(rb)) => {
+            let c = (pa.0 + d[0], pa.1 + d[1]);
+            (point_box(c, pb.0, pb.1, pb.0, pb.1) - ra.max(0.0) - rb.max(0.0)).max(0.0)
+        }
+        (Extent::Radius(ra), Extent::Box { x0, y0, x1, y1 }) => {
+            let c = (pa.0 + d[0], pa.1 + d[1]);
+            let (x0, y0, x1, y1) = sorted(x0, y0, x1, y1);
+            (point_box(c, x0, y0, x1, y1) - ra.max(0.0)).max(0.0)
+        }
+        (Extent::Box { x0, y0, x1, y1 }, Extent::Radius(rb)) => {
+            let (x0, y0, x1, y1) = sorted(x0, y0, x1, y1);
+            let (x0, x1, y0, y1) = (x0 + d[0], x1 + d[0], y0 + d[1], y1 + d[1]);
+            (point_box(pb, x0, y0, x1, y1) - rb.max(0.0)).max(0.0)
+        }
+        (
+            Extent::Box { x0, y0, x1, y1 },
+            Extent::Box {
+                x0: u0,
+                y0: v0,
+                x1: u1,
+                y1: v1,
+            },
+        ) => {
+            let (x0, y0, x1, y1) = sorted(x0, y0, x1, y1);
+            let (u0, v0, u1, v1) = sorted(u0, v0, u1, v1);
+            let (x0, x1, y0, y1) = (x0 + d[0], x1 + d[0], y0 + d[1], y1 + d[1]);
+            let gx = (u0 - x1).max(x0 - u1).max(0.0);
+            let gy = (v0 - y1).max(y0 - v1).max(0.0);
+            gx.hypot(gy)
+        }
+    }
 }
 
 fn radius(e: Extent) -> f64 {
@@ -78,11 +132,29 @@ impl Reference {
             shape,
             anchor: vec![1.0; n],
             since: vec![0.0; n],
+            disp: vec![Some([0.0; 2]); n],
+            heading: None,
+            extents: places
+                .iter()
+                .map(|p| ((p.pose.0, p.pose.1), p.extent))
+                .collect(),
             dist: PlaceDistribution::new(n),
         }
     }
 
     fn reach(&self, i: usize, j: usize) -> f64 {
+        if let Some(d) = self.disp[i] {
+            let ((pa, a), (pb, b)) = (self.extents[i], self.extents[j]);
+            let s = self.since[i];
+            let shape = Trapezoid {
+                core: 2.0 * (self.cfg.tolerance_d + self.cfg.tolerance_d_rel * s),
+                slope: self.cfg.slope_d + self.cfg.slope_d_rel * s,
+                height: 1.0,
+                bias: 0.0,
+                period: None,
+            };
+            return shape.degree(gap(pa, a, d, pb, b), 0.0);
+        }
         let l = self.length[i][j];
         if l.is_finite() {
             self.shape[i][j].degree(self.since[i], l)
@@ -91,7 +163,12 @@ impl Reference {
         }
     }
 
-    fn step(&mut self, evidence: &PlaceDistribution, odo: Odometry) -> Decision {
+    fn step(
+        &mut self,
+        evidence: &PlaceDistribution,
+        odo: Odometry,
+        heading: Option<f64>,
+    ) -> Decision {
         let n = self.anchor.len();
         let get = |v: &[f64], j: usize, missing: f64| clamp_degree(*v.get(j).unwrap_or(&missing));
         let e: Vec<f64> = (0..n).map(|j| get(&evidence.possibility, j, 1.0)).collect();
@@ -104,6 +181,33 @@ impl Reference {
         for s in &mut self.since {
             *s = (*s + ds).min(1e9);
         }
+        // The increment in the map frame, by the heading it started from.
+        let dtheta = odo.dtheta.to_radians();
+        let now = heading
+            .filter(|h| self.cfg.use_heading && h.is_finite())
+            .map(f64::to_radians);
+        let start = self
+            .heading
+            .or_else(|| now.filter(|_| dtheta.is_finite()).map(|h| h - dtheta));
+        if ds > 0.0 {
+            for d in &mut self.disp {
+                *d = match (*d, start) {
+                    (Some(v), Some(th)) => {
+                        let (sn, cs) = th.sin_cos();
+                        let wx = cs * odo.dx - sn * odo.dy;
+                        let wy = sn * odo.dx + cs * odo.dy;
+                        Some([(v[0] + wx).clamp(-1e9, 1e9), (v[1] + wy).clamp(-1e9, 1e9)])
+                    }
+                    _ => None,
+                };
+            }
+        }
+        self.heading = now.or_else(|| {
+            self.heading
+                .map(|h| h + dtheta)
+                .filter(|h| h.is_finite())
+                .map(|h| h.rem_euclid(std::f64::consts::TAU))
+        });
         let pred: Vec<f64> = (0..n)
             .map(|j| {
                 (0..n)
@@ -137,6 +241,7 @@ impl Reference {
             if a >= self.cfg.anchor_support {
                 self.anchor[j] = self.dist.possibility[j];
                 self.since[j] = 0.0;
+                self.disp[j] = Some([0.0; 2]);
             }
         }
         let top = self.anchor.iter().copied().fold(0.0, f64::max);
@@ -145,6 +250,7 @@ impl Reference {
         } else {
             self.anchor.fill(1.0);
             self.since.fill(0.0);
+            self.disp.fill(Some([0.0; 2]));
         }
         let d = decide(&self.dist, self.params);
         match d {
@@ -226,11 +332,13 @@ fn config() -> impl Strategy<Value = TrackerConfig> {
     (
         (unit(), tnorm, len(), len(), len(), len()),
         (unit(), unit(), norm, unit()),
+        (any::<bool>(), len(), len(), len(), len()),
     )
         .prop_map(
             |(
                 (bias, tnorm, tolerance, tolerance_rel, slope, slope_rel),
                 (anchor_support, min_support, normalisation, conflict),
+                (use_heading, tolerance_d, tolerance_d_rel, slope_d, slope_d_rel),
             )| {
                 TrackerConfig {
                     bias,
@@ -243,6 +351,12 @@ fn config() -> impl Strategy<Value = TrackerConfig> {
                     min_support,
                     normalisation,
                     conflict,
+                    use_heading,
+                    tolerance_d,
+                    tolerance_d_rel,
+                    slope_d,
+                    slope_d_rel,
+                    grid: None,
                 }
             },
         )
@@ -258,16 +372,26 @@ fn degree() -> impl Strategy<Value = f64> {
     ]
 }
 
-/// One frame: evidence vectors (of the map's length, or sometimes too short or long) and an
-/// odometry step (usually a fraction of a metre, sometimes large or not finite).
-fn frame() -> impl Strategy<Value = (Vec<f64>, Vec<f64>, Vec<f64>, f64, f64)> {
+/// One frame's motion: an odometry step (usually a fraction of a metre, sometimes large or
+/// not finite), a turn and a heading (usually known, sometimes missing or not finite).
+type Motion = (f64, f64, f64, Option<f64>);
+
+/// One frame: evidence vectors (of the map's length, or sometimes too short or long) and its
+/// motion.
+fn frame() -> impl Strategy<Value = (Vec<f64>, Vec<f64>, Vec<f64>, Motion)> {
     let v = || prop::collection::vec(degree(), 0..10);
     let step = prop_oneof![
         8 => -1.0..1.0f64,
         1 => -30.0..30.0f64,
         1 => prop_oneof![Just(f64::NAN), Just(f64::INFINITY), Just(0.0)],
     ];
-    (v(), v(), v(), step.clone(), step)
+    let heading = prop_oneof![
+        6 => (-400.0..400.0f64).prop_map(Some),
+        2 => Just(None),
+        1 => Just(Some(f64::NAN)),
+    ];
+    let turn = prop_oneof![4 => -90.0..90.0f64, 1 => Just(f64::INFINITY)];
+    (v(), v(), v(), (step.clone(), step, turn, heading))
 }
 
 /// Equal degrees: bit for bit, except that a zero may come out with the other sign (the tracker
@@ -298,7 +422,7 @@ proptest! {
         let params = DecisionParams { threshold, margin };
         let mut fast = Tracker::new(&map, params, cfg);
         let mut slow = Reference::new(&map, params, cfg);
-        for (k, (alpha, beta, pi, dx, dy)) in frames.into_iter().enumerate() {
+        for (k, (alpha, beta, pi, (dx, dy, dtheta, heading))) in frames.into_iter().enumerate() {
             let mut ev = PlaceDistribution::new(n);
             if full_length[k] {
                 // Evidence of the map's length, as the engine gives it.
@@ -311,16 +435,16 @@ proptest! {
                 ev.exclusion = beta;
                 ev.possibility = pi;
             }
-            let odo = Odometry { dx, dy, dtheta: 0.0 };
-            let got = fast.step(&ev, odo);
-            let want = slow.step(&ev, odo);
+            let odo = Odometry { dx, dy, dtheta };
+            let got = fast.step(&ev, odo, heading);
+            let want = slow.step(&ev, odo, heading);
             prop_assert_eq!(got, want, "frame {}", k);
             let d = fast.distribution();
             prop_assert!(same_all(&d.possibility, &slow.dist.possibility), "frame {k}: Π {:?} vs {:?}", d.possibility, slow.dist.possibility);
             prop_assert!(same_all(&d.necessity, &slow.dist.necessity), "frame {k}: N");
             prop_assert!(same_all(&d.possibility_raw, &slow.dist.possibility_raw), "frame {k}: raw");
             prop_assert!(same(d.inconsistency, slow.dist.inconsistency), "frame {k}: Inc");
-            let TrackerState { anchor, since } = fast.state();
+            let TrackerState { anchor, since, .. } = fast.state();
             prop_assert!(same_all(&anchor, &slow.anchor), "frame {k}: anchors {:?} vs {:?}", anchor, slow.anchor);
             prop_assert!(same_all(&since, &slow.since), "frame {k}: distances");
         }
@@ -352,7 +476,13 @@ fn office_walk_matches_reference() {
             dy: 0.05,
             dtheta: 0.0,
         };
-        assert_eq!(fast.step(&ev, odo), slow.step(&ev, odo), "frame {k}");
+        // Headings on the second half: the displacement gates take over.
+        let heading = (k >= 100).then_some(30.0);
+        assert_eq!(
+            fast.step(&ev, odo, heading),
+            slow.step(&ev, odo, heading),
+            "frame {k}"
+        );
         assert!(same_all(
             &fast.distribution().possibility,
             &slow.dist.possibility

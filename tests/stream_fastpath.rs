@@ -177,62 +177,76 @@ fn record() -> impl Strategy<Value = String> {
             prop::option::of(prop::option::of(0..places.len() + 1)),
             prop::option::of(prop::collection::vec(number(), 2..5)),
         )),
-        (any::<u8>(), prop::collection::vec(any::<u32>(), 6)),
+        (
+            any::<u8>(),
+            prop::collection::vec(any::<u32>(), 7),
+            prop::option::of(number()),
+        ),
         prop::collection::vec(any::<u8>(), 0..12),
     )
-        .prop_map(move |(ps, version, t, odo, truth, (extra, order), ws)| {
-            let mut m = Vec::new();
-            if extra % 23 != 0 {
-                m.push(("percepts".to_string(), J::Arr(ps)));
-            }
-            if let Some(v) = version {
-                m.push(("version".to_string(), J::Raw(v.to_string())));
-            }
-            if let Some(t) = t {
-                m.push(("t".to_string(), J::Raw(t)));
-            }
-            if let Some((dx, dy, dtheta)) = odo {
-                let o: Vec<(String, J)> = [("dx", dx), ("dy", dy), ("dtheta", dtheta)]
-                    .into_iter()
-                    .filter_map(|(k, v)| v.map(|v| (k.to_string(), J::Raw(v))))
-                    .collect();
-                let o = if extra % 19 == 0 {
-                    J::Raw("null".into())
-                } else {
-                    J::Obj(o)
-                };
-                m.push(("odometry".to_string(), o));
-            }
-            if let Some((place, pose)) = truth {
-                let mut tm = Vec::new();
-                if let Some(p) = place {
-                    let v = match p {
-                        None => J::Raw("null".into()),
-                        Some(i) => J::Str(
-                            places.get(i).cloned().unwrap_or_else(|| "P99".into()),
-                            false,
-                        ),
+        .prop_map(
+            move |(ps, version, t, odo, truth, (extra, order, heading), ws)| {
+                let mut m = Vec::new();
+                if extra % 23 != 0 {
+                    m.push(("percepts".to_string(), J::Arr(ps)));
+                }
+                if let Some(v) = version {
+                    m.push(("version".to_string(), J::Raw(v.to_string())));
+                }
+                if let Some(t) = t {
+                    m.push(("t".to_string(), J::Raw(t)));
+                }
+                if let Some((dx, dy, dtheta)) = odo {
+                    let o: Vec<(String, J)> = [("dx", dx), ("dy", dy), ("dtheta", dtheta)]
+                        .into_iter()
+                        .filter_map(|(k, v)| v.map(|v| (k.to_string(), J::Raw(v))))
+                        .collect();
+                    let o = if extra % 19 == 0 {
+                        J::Raw("null".into())
+                    } else {
+                        J::Obj(o)
                     };
-                    tm.push(("place".to_string(), v));
+                    m.push(("odometry".to_string(), o));
                 }
-                if let Some(pose) = pose {
-                    tm.push((
-                        "pose".to_string(),
-                        J::Arr(pose.into_iter().map(J::Raw).collect()),
-                    ));
+                if let Some(h) = heading {
+                    let h = if extra % 13 == 0 {
+                        "null".to_string()
+                    } else {
+                        h
+                    };
+                    m.push(("heading".to_string(), J::Raw(h)));
                 }
-                m.push(("truth".to_string(), J::Obj(tm)));
-            }
-            if extra % 37 == 0 {
-                m.push(("comment".to_string(), J::Str("hi".into(), false)));
-            }
-            if extra % 41 == 0 {
-                m.push(("t".to_string(), J::Raw("3".into())));
-            }
-            let mut out = String::new();
-            write(&shuffle(m, &order), &ws, &mut 0, &mut out);
-            out
-        })
+                if let Some((place, pose)) = truth {
+                    let mut tm = Vec::new();
+                    if let Some(p) = place {
+                        let v = match p {
+                            None => J::Raw("null".into()),
+                            Some(i) => J::Str(
+                                places.get(i).cloned().unwrap_or_else(|| "P99".into()),
+                                false,
+                            ),
+                        };
+                        tm.push(("place".to_string(), v));
+                    }
+                    if let Some(pose) = pose {
+                        tm.push((
+                            "pose".to_string(),
+                            J::Arr(pose.into_iter().map(J::Raw).collect()),
+                        ));
+                    }
+                    m.push(("truth".to_string(), J::Obj(tm)));
+                }
+                if extra % 37 == 0 {
+                    m.push(("comment".to_string(), J::Str("hi".into(), false)));
+                }
+                if extra % 41 == 0 {
+                    m.push(("t".to_string(), J::Raw("3".into())));
+                }
+                let mut out = String::new();
+                write(&shuffle(m, &order), &ws, &mut 0, &mut out);
+                out
+            },
+        )
 }
 
 /// A record with a few bytes deleted, inserted, replaced or cut off.
@@ -301,10 +315,11 @@ fn describe(frame: &Frame, meta: &FrameMeta) -> String {
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     let o = meta.odometry;
     format!(
-        "frame line={} t={:?} odo={:?} truth={} {:?} {:?} degree={:?} value={:?}",
+        "frame line={} t={:?} odo={:?} heading={:?} truth={} {:?} {:?} degree={:?} value={:?}",
         meta.line,
         meta.t.map(f64::to_bits),
         [o.dx.to_bits(), o.dy.to_bits(), o.dtheta.to_bits()],
+        meta.heading.map(f64::to_bits),
         meta.truth_known,
         meta.truth_place,
         meta.truth_pose.map(|p| p.map(f64::to_bits)),

@@ -82,6 +82,7 @@ const CASES: &[(&str, &[Expected])] = &[
     ),
     ("map_duplicate_name.map", &[("DuplicateName", 2, 7)]),
     ("map_duplicate_path.map", &[("DuplicatePath", 4, 1)]),
+    ("map_empty_range.map", &[("EmptyRange", 2, 31)]),
     ("map_invalid_box.map", &[("InvalidBox", 1, 28)]),
     (
         "map_negative_length.map",

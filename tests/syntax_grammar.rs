@@ -300,6 +300,41 @@ fn map_items() {
 }
 
 #[test]
+fn map_param_ranges() {
+    parses_to! {
+        parser: MapGrammar,
+        input: "param W = 1 .. 2.5;",
+        rule: MapRule::param,
+        tokens: [param(0, 19, [kw_param(0, 5), ident(6, 7), number(10, 11), number(15, 18)])]
+    };
+    // `1..2` is a range, not the number `1.` followed by `.2`.
+    parses_to! {
+        parser: MapGrammar,
+        input: "param V(North) = 1..2;",
+        rule: MapRule::param,
+        tokens: [param(0, 22, [kw_param(0, 5), ident(6, 7), ident(8, 13), number(17, 18), number(20, 21)])]
+    };
+    fails_with! {
+        parser: MapGrammar,
+        input: "param W = 1 .. ;",
+        rule: MapRule::param,
+        positives: vec![MapRule::number],
+        negatives: vec![],
+        pos: 15
+    };
+    let m = parse_map("place P corridor at (0, 0) { param W = -1.5 .. 2; param A = 3; }")
+        .expect("map parses");
+    let MapItem::Place(p) = &m.items[0] else {
+        panic!()
+    };
+    assert!(matches!(
+        &p.features[0],
+        Feature::Param { value, upper: Some(u), .. } if value.node == -1.5 && u.node == 2.0
+    ));
+    assert!(matches!(&p.features[1], Feature::Param { upper: None, .. }));
+}
+
+#[test]
 fn map_place_needs_a_pose() {
     fails_with! {
         parser: MapGrammar,

@@ -27,16 +27,25 @@
 //! weight is at least `best_fraction` of the largest; the heading is the grid's ("the bearing of
 //! the new pose is found by the ML module", §3). When the certainty condition fails or no sample
 //! qualifies, the estimate is the grid's: a **fallback**, counted by [`FuzzyRmcl::fallbacks`].
-//! Frames without readings give the grid's estimate and are not fallbacks (nothing was tried).
 //! Reliability and fix threshold are the grid's (the samples refine the position inside the region
 //! the grid has already committed to; they do not add certainty).
+//!
+//! **Between readings.** The best samples are kept and moved by each odometry increment along
+//! their own heading (the MCL half's motion step: paper 001 weighs samples by "their fitness to
+//! the observation *and odometry*", §4), so a frame without readings is estimated by the
+//! weighted mean of the carried samples ([`FuzzyRmcl::carried`]) — not by the grid, which would
+//! make R-MCL the grid on every such frame. The carried set is replaced by the next frame with
+//! readings and dropped at a fallback (the ML result is used instead, §3). Before the first
+//! sampled frame, and after a fallback, frames without readings are the grid's. Our copy of the
+//! paper lacks its flowchart (Fig. 1), so this reading of the text is ours.
 //!
 //! May depend on `grid`, `localize`, `sim::rng`.
 //!
 //! # Complexity
 //!
 //! Per frame: the grid's own cost, plus O(cells · readings) to pick the best cells and
-//! O(max_cells · samples_per_cell · readings) for the samples; memory O(cells) (the grid).
+//! O(max_cells · samples_per_cell · readings) for the samples; per odometry increment
+//! O(carried samples), at most max_cells · samples_per_cell; memory O(cells) (the grid).
 //!
 //! # Example
 //!
@@ -202,9 +211,14 @@ pub struct FuzzyRmcl {
     /// Readings of the current frame: landmark x, y, range, bearing.
     frame: Vec<(f64, f64, Option<f64>, Option<f64>)>,
     cells: Vec<(usize, usize, f64)>,
-    samples: Vec<(f64, f64, f32)>,
+    /// Samples of the current frame: x, y, heading, weight.
+    samples: Vec<(f64, f64, f64, f32)>,
+    /// The best samples of the last sampled frame, moved by the odometry since: x, y, heading,
+    /// weight.
+    kept: Vec<(f64, f64, f64, f32)>,
     fallbacks: usize,
     sampled: usize,
+    carried: usize,
 }
 
 impl FuzzyRmcl {
@@ -231,8 +245,10 @@ impl FuzzyRmcl {
             frame: Vec::new(),
             cells: Vec::new(),
             samples: Vec::new(),
+            kept: Vec::new(),
             fallbacks: 0,
             sampled: 0,
+            carried: 0,
         })
     }
 
@@ -242,9 +258,14 @@ impl FuzzyRmcl {
         self.fallbacks
     }
 
-    /// Frames whose estimate is the mean of best samples.
+    /// Frames with readings whose estimate is the mean of best samples.
     pub fn sampled(&self) -> usize {
         self.sampled
+    }
+
+    /// Frames without readings whose estimate is the mean of the carried samples.
+    pub fn carried(&self) -> usize {
+        self.carried
     }
 
     /// The grid stage.
@@ -299,19 +320,16 @@ impl FuzzyRmcl {
                 let x = cx as f64 + cell * (self.rng.unit() - 0.5);
                 let y = cy as f64 + cell * (self.rng.unit() - 0.5);
                 if let Some(w) = self.cfg.sample_weight(x, y, theta, &self.frame) {
-                    self.samples.push((x, y, w));
+                    self.samples.push((x, y, theta, w));
                 }
             }
         }
-        let w_max = self.samples.iter().map(|s| s.2).fold(0.0f32, f32::max);
+        let w_max = self.samples.iter().map(|s| s.3).fold(0.0f32, f32::max);
         let best = self.cfg.best_fraction * w_max;
-        let (mut sx, mut sy, mut sw) = (0.0, 0.0, 0.0);
-        for &(x, y, w) in self.samples.iter().filter(|s| s.2 >= best) {
-            sx += w as f64 * x;
-            sy += w as f64 * y;
-            sw += w as f64;
-        }
-        (sw > 0.0).then(|| (sx / sw, sy / sw))
+        self.kept.clear();
+        self.kept
+            .extend(self.samples.iter().filter(|s| s.3 >= best).copied());
+        weighted_mean(&self.kept)
     }
 }
 
@@ -320,7 +338,15 @@ impl Localizer for FuzzyRmcl {
 
     fn predict(&mut self, m: &Motion) -> Result<(), BaselineError> {
         check_motion(m)?;
-        Ok(self.grid.predict(m)?)
+        self.grid.predict(m)?;
+        let (f, l, turn) = (m.forward as f64, m.lateral as f64, m.turn as f64);
+        for (x, y, theta, _) in &mut self.kept {
+            let (s, c) = theta.sin_cos();
+            *x += c * f - s * l;
+            *y += s * f + c * l;
+            *theta = wrap(*theta + turn);
+        }
+        Ok(())
     }
 
     fn observe(&mut self, table: &LandmarkTable, obs: &Observation) -> Result<(), BaselineError> {
@@ -339,19 +365,28 @@ impl Localizer for FuzzyRmcl {
 
     fn estimate(&mut self) -> PoseEstimate {
         let mut e = self.grid.estimate();
-        if !self.frame.is_empty() {
-            match self.refine(e.pose.theta) {
-                Some((x, y)) => {
-                    e.pose = Pose2 {
-                        x,
-                        y,
-                        theta: e.pose.theta,
-                    };
-                    self.sampled += 1;
+        let position = if self.frame.is_empty() {
+            let p = weighted_mean(&self.kept);
+            self.carried += p.is_some() as usize;
+            p
+        } else {
+            let p = self.refine(e.pose.theta);
+            match p {
+                Some(_) => self.sampled += 1,
+                None => {
+                    self.fallbacks += 1;
+                    self.kept.clear();
                 }
-                None => self.fallbacks += 1,
             }
             self.frame.clear();
+            p
+        };
+        if let Some((x, y)) = position {
+            e.pose = Pose2 {
+                x,
+                y,
+                theta: e.pose.theta,
+            };
         }
         e
     }
@@ -363,6 +398,17 @@ impl Localizer for FuzzyRmcl {
     fn reobserve_interval(&self) -> f64 {
         self.grid.reobserve_interval()
     }
+}
+
+/// Weighted mean position of samples (x, y, heading, weight); `None` without weight.
+fn weighted_mean(samples: &[(f64, f64, f64, f32)]) -> Option<(f64, f64)> {
+    let (mut sx, mut sy, mut sw) = (0.0, 0.0, 0.0);
+    for &(x, y, _, w) in samples {
+        sx += w as f64 * x;
+        sy += w as f64 * y;
+        sw += w as f64;
+    }
+    (sw > 0.0).then(|| (sx / sw, sy / sw))
 }
 
 #[cfg(test)]

@@ -171,12 +171,18 @@ pub struct EvalArgs {
     /// Decide each frame on its own evidence, without tracking along the map graph.
     #[arg(long)]
     pub no_track: bool,
-    /// Tracker parameters (RON), e.g. '(bias: 0.1, tolerance: 0.8)'; see the README for defaults.
+    /// Tracker parameters: a RON file such as config/intel-tracker.ron (which tracks on a
+    /// metric grid); fields left out take the defaults given in the README.
     #[arg(long, value_name = "RON")]
     pub tracker: Option<PathBuf>,
     /// Draw the run (per place Π and N over frames, chosen place, truth) as SVG.
     #[arg(long, value_name = "SVG")]
     pub plot: Option<PathBuf>,
+    /// Draw the truth poses over the map's places, one dot per frame coloured by the decision
+    /// (right, wrong, disoriented), as SVG. Frames without a truth pose are left out; one point
+    /// per frame is kept until the end.
+    #[arg(long, value_name = "SVG")]
+    pub trajectory: Option<PathBuf>,
 }
 
 /// `lplace simulate`.
@@ -218,6 +224,10 @@ pub struct SimulateArgs {
     /// Kidnap the robot (teleport to a random other place) at these frames (0-based).
     #[arg(long, value_name = "K", value_delimiter = ',')]
     pub kidnap_at: Vec<u64>,
+    /// Emit the robot's heading (as a compass would), with this standard deviation in degrees.
+    /// Without it frames carry no heading.
+    #[arg(long, value_name = "DEG")]
+    pub heading_noise: Option<f64>,
     /// Output form.
     #[arg(long, value_enum, default_value_t = StreamForm::Jsonl)]
     pub format: StreamForm,

@@ -26,7 +26,9 @@ use crate::grid::run::GridLocalizer;
 use crate::grid::{GridConfig, LandmarkTable};
 use crate::io::mrclam::MetricFrame;
 use crate::localize::perturb::{perturb, Perturbation, KEEP_LEVELS, NOISE_LEVELS};
-use crate::localize::{AteStats, Drive, Localizer, Recovery, RunOptions, RunReport};
+use crate::localize::{
+    common_window_start, AteStats, Drive, Localizer, Recovery, RunOptions, RunReport,
+};
 use crate::report::sweep::{self, Panel, Series};
 
 /// The bundled grid parameters for MRCLAM (config/grid-mrclam.ron), the default of `--config`.
@@ -218,6 +220,8 @@ struct RmclCounts {
     sampled: usize,
     /// Frames with readings whose estimate fell back to the grid's.
     fallbacks: usize,
+    /// Frames without readings whose estimate is the mean of the carried samples.
+    carried: usize,
 }
 
 /// Runs `loc` over `frames` through a fresh [`Drive`]; the duration is the wall time of the
@@ -272,6 +276,7 @@ fn run_method(
                 rmcl: Some(RmclCounts {
                     sampled: r.sampled(),
                     fallbacks: r.fallbacks(),
+                    carried: r.carried(),
                 }),
                 ..ran
             }
@@ -286,6 +291,10 @@ struct MethodRow {
     frames: usize,
     ate: Option<AteStats>,
     ate_all: Option<AteStats>,
+    /// ATE over the common window of all the methods run (`localize::common_window_start`).
+    ate_common: Option<AteStats>,
+    /// Start of that window, seconds after the first frame.
+    common_from: Option<f64>,
     heading_rmse: Option<f64>,
     first_fix: Option<f64>,
     kidnap_at: Option<f64>,
@@ -361,6 +370,7 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
         std::fs::create_dir_all(dir).map_err(|e| output_error(dir, e))?;
     }
     let mut rows = Vec::new();
+    let mut reports = Vec::new();
     for &m in &args.methods {
         let Ran { report, took, rmcl } = run_method(m, &setup, frames, &RunOptions::default())?;
         if let Some(dir) = &args.tum_dir {
@@ -400,7 +410,16 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
             unknown: report.unknown + input.reader.stats.unknown,
             rejected_readings: report.rejected,
             rmcl,
+            ate_common: None,
+            common_from: None,
         });
+        reports.push(report);
+    }
+    let start = common_window_start(&reports);
+    let t0 = frames.first().map_or(0.0, |f| f.t);
+    for (row, report) in rows.iter_mut().zip(&reports) {
+        row.ate_common = start.and_then(|t| report.ate_from(t));
+        row.common_from = start.map(|t| t - t0);
     }
     let points = match args.sweep {
         None => Vec::new(),
@@ -555,9 +574,9 @@ fn print_table(
 ) -> Result<(), CliError> {
     writeln!(
         out,
-        "| method | frames | ATE RMSE [m] | median [m] | max [m] | ATE all frames [m] | heading RMSE [rad] | first fix [s] | kidnap recovery [s] | time/step [µs] |"
+        "| method | frames | ATE RMSE [m] | median [m] | max [m] | ATE common window [m] | ATE all frames [m] | heading RMSE [rad] | first fix [s] | kidnap recovery [s] | time/step [µs] |"
     )?;
-    writeln!(out, "|---|---|---|---|---|---|---|---|---|---|")?;
+    writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|")?;
     for r in rows {
         let recovery = match (r.kidnap_at, r.recovery) {
             (None, _) => "–".to_string(),
@@ -566,12 +585,13 @@ fn print_table(
         };
         writeln!(
             out,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1} |",
             r.method,
             r.frames,
             opt(r.ate.map(|a| a.rmse), 3),
             opt(r.ate.map(|a| a.median), 3),
             opt(r.ate.map(|a| a.max), 3),
+            opt(r.ate_common.map(|a| a.rmse), 3),
             opt(r.ate_all.map(|a| a.rmse), 3),
             opt(r.heading_rmse, 3),
             opt(r.first_fix, 1),
@@ -583,17 +603,21 @@ fn print_table(
         if let Some(c) = r.rmcl {
             writeln!(
                 out,
-                "\n{}: estimate from samples in {} of {} frames, the grid's after a failed sampling in {}, the grid's (no readings) in the rest",
-                r.method, c.sampled, r.frames, c.fallbacks
+                "\n{}: estimate from fresh samples in {} of {} frames, from samples carried by odometry in {}, the grid's after a failed sampling in {}, the grid's (no samples yet) in the rest",
+                r.method, c.sampled, r.frames, c.carried, c.fallbacks
             )?;
         }
     }
     if let Some(at) = rows.first().and_then(|r| r.kidnap_at) {
         writeln!(out, "\nkidnap injected {at:.1} s after the first frame")?;
     }
+    let window = match rows.first().and_then(|r| r.common_from) {
+        Some(s) => format!("from {s:.1} s, the latest first fix of the methods above"),
+        None => "none: some method never has a fix".to_string(),
+    };
     writeln!(
         out,
-        "\nATE: position error vs truth, no alignment, from each method's first fix (ATE all frames: RMSE from the first frame); time/step: wall time of the run / frames."
+        "\nATE: position error vs truth, no alignment, RMSE / median / max from each method's own first fix; ATE common window: RMSE over the frames where every method above has had its fix ({window}); ATE all frames: RMSE from the first frame. time/step: wall time of the run / frames."
     )?;
     for (sweep, title) in [
         (
@@ -631,7 +655,7 @@ fn print_csv(
     let o = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v}"));
     writeln!(
         out,
-        "method,run,range_sigma_m,bearing_sigma_deg,keep,ate_rmse_m,ate_median_m,ate_max_m,ate_all_rmse_m,first_fix_s,kidnap_recovery_s,time_per_step_us"
+        "method,run,range_sigma_m,bearing_sigma_deg,keep,ate_rmse_m,ate_median_m,ate_max_m,ate_all_rmse_m,first_fix_s,kidnap_recovery_s,time_per_step_us,ate_common_rmse_m,common_from_s"
     )?;
     for r in rows {
         let recovery = match (r.kidnap_at, r.recovery) {
@@ -640,7 +664,7 @@ fn print_csv(
         };
         writeln!(
             out,
-            "{},main,0,0,1,{},{},{},{},{},{},{}",
+            "{},main,0,0,1,{},{},{},{},{},{},{},{},{}",
             r.method,
             o(r.ate.map(|a| a.rmse)),
             o(r.ate.map(|a| a.median)),
@@ -648,13 +672,15 @@ fn print_csv(
             o(r.ate_all.map(|a| a.rmse)),
             o(r.first_fix),
             recovery,
-            r.time_per_step_us
+            r.time_per_step_us,
+            o(r.ate_common.map(|a| a.rmse)),
+            o(r.common_from),
         )?;
     }
     for p in points {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},,",
+            "{},{},{},{},{},{},{},{},{},{},,,,",
             p.method,
             p.sweep,
             p.range_sigma,

@@ -9,7 +9,7 @@
 
 use super::args::{ArgError, EvalArgs, Format, StreamForm, SummaryFormat};
 use super::{load_engine, CliError, EXIT_OK, EXIT_REJECTED};
-use crate::engine::tracker::{Tracker, TrackerConfig};
+use crate::engine::tracker::{PlaceTracker, TrackerConfig};
 use crate::engine::{CompileOptions, Engine};
 use crate::io::record::FrameRecord;
 use crate::io::stream::{
@@ -17,6 +17,7 @@ use crate::io::stream::{
 };
 use crate::logic::{Decision, DecisionParams, PlaceDistribution};
 use crate::report::summary::reason_name;
+use crate::report::trajectory::{self, TrajectoryPoint, Verdict};
 use crate::report::{RunPlot, Tally};
 use std::io::{BufRead, BufReader, IsTerminal, Write};
 
@@ -160,7 +161,7 @@ fn write_u64(out: &mut impl Write, mut n: u64) -> std::io::Result<()> {
 /// Everything one stream evaluation needs, built once.
 struct Session<'a> {
     engine: Engine,
-    tracker: Option<Tracker>,
+    tracker: Option<PlaceTracker>,
     places: Vec<String>,
     args: &'a EvalArgs,
 }
@@ -170,7 +171,7 @@ impl Session<'_> {
     fn step(&mut self, frame: &crate::engine::Frame, meta: &FrameMeta) -> Decision {
         self.engine.step(frame);
         match &mut self.tracker {
-            Some(t) => t.step(self.engine.distribution(), meta.odometry),
+            Some(t) => t.step(self.engine.distribution(), meta.odometry, meta.heading),
             None => self.engine.decision(),
         }
     }
@@ -365,7 +366,7 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
     let reader = StreamReader::new(input, schema, format);
     let logic = engine.rules().logic;
     let tracker = (!args.no_track).then(|| {
-        Tracker::new(
+        PlaceTracker::new(
             engine.map(),
             DecisionParams {
                 threshold: logic.threshold,
@@ -379,6 +380,8 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
         .plot
         .as_ref()
         .map(|_| RunPlot::new(places.clone(), format!("lplace eval {name}")));
+    let mut points: Option<Vec<TrajectoryPoint>> = args.trajectory.as_ref().map(|_| Vec::new());
+    let map_for_picture = args.trajectory.as_ref().map(|_| engine.map().clone());
     let mut session = Session {
         engine,
         tracker,
@@ -435,6 +438,20 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
                     if let Some(p) = &mut plot {
                         p.push(session.dist(), d, meta.truth_place);
                     }
+                    if let (Some(pts), Some(pose)) = (&mut points, meta.truth_pose) {
+                        let verdict = match d.place() {
+                            None => Verdict::Disoriented,
+                            Some(k) if meta.truth_known && meta.truth_place == Some(k) => {
+                                Verdict::Right
+                            }
+                            Some(_) => Verdict::Wrong,
+                        };
+                        pts.push(TrajectoryPoint {
+                            x: pose[0],
+                            y: pose[1],
+                            verdict,
+                        });
+                    }
                     if !args.only_summary {
                         session.write_decision(&mut w, d, meta)?;
                     }
@@ -457,10 +474,12 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
         write_summary(&summary, args.summary, &mut err)?;
     }
     if let (Some(path), Some(p)) = (&args.plot, &plot) {
-        std::fs::write(path, p.to_svg()).map_err(|source| CliError::Read {
-            path: path.display().to_string(),
-            source,
-        })?;
+        std::fs::write(path, p.to_svg()).map_err(|e| super::grid::output_error(path, e))?;
+    }
+    if let (Some(path), Some(pts), Some(map)) = (&args.trajectory, &points, &map_for_picture) {
+        let title = format!("lplace eval {name}: decisions along the true trajectory");
+        let picture = trajectory::svg(map, pts, 20.0, &title);
+        std::fs::write(path, picture).map_err(|e| super::grid::output_error(path, e))?;
     }
     Ok(if summary.rejected > 0 {
         EXIT_REJECTED

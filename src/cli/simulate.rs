@@ -26,6 +26,7 @@ fn config(args: &SimulateArgs) -> Result<SimConfig, ArgError> {
         }
     }
     let nonneg = [
+        ("heading-noise", args.heading_noise.unwrap_or(0.0)),
         ("speed", args.speed),
         ("angle-noise", args.angle_noise),
         ("range-noise", args.range_noise),
@@ -52,6 +53,7 @@ fn config(args: &SimulateArgs) -> Result<SimConfig, ArgError> {
         range_noise: args.range_noise,
         odometry_noise: args.odometry_noise,
         kidnap_at: args.kidnap_at.clone(),
+        heading_noise: args.heading_noise,
         ..SimConfig::default()
     })
 }

@@ -247,7 +247,7 @@ pub fn run(
                 bearing: reading.bearing as f32,
             };
             let rel = est.reliability.clamp(0.0, 1.0);
-            match object_grid(locs[r].grid(), rel, obs, cfg) {
+            match object_grid(locs[r].grid_now(), rel, obs, cfg) {
                 Ok(g) => {
                     cells = g.values().len();
                     sightings.push(Sighting {

@@ -19,7 +19,7 @@
 use super::frame::{PerceptSlot, PerceptTable};
 use super::tape::{Op, Reg, Tape};
 use crate::logic::LogicConfig;
-use crate::map::Map;
+use crate::map::{Expected, Map};
 use crate::syntax::ast::{ArgRole, Atom, Formula, Rule, SchemaSource, Term};
 use crate::syntax::check::{RuleSet, Signature};
 use crate::syntax::diagnostic::{Diagnostic, DiagnosticKind, NeverFiresReason};
@@ -165,7 +165,13 @@ impl Builder {
                 slot,
                 similarity,
                 centre,
-            } => (2, slot.0 as u64, similarity as u64, centre.to_bits()),
+                half,
+            } => (
+                2,
+                (u64::from(slot.0) << 32) | u64::from(similarity),
+                centre.to_bits(),
+                half.to_bits(),
+            ),
             // Commutative: `min(a, b)` and `min(b, a)` share one register, which keeps the
             // operand order of whichever was written first (what `explain` prints).
             Op::Min(a, b) => (3, a.min(b) as u64, a.max(b) as u64, 0),
@@ -320,15 +326,15 @@ impl<'a> Scope<'a> {
     }
 
     /// The expected value θ of an `expect` argument in this context.
-    pub fn expectation(&self, term: &Term) -> Option<f64> {
+    pub fn expectation(&self, term: &Term) -> Option<Expected> {
         match term {
-            Term::Number(x) => Some(*x),
+            Term::Number(x) => Some(Expected::value(*x)),
             Term::PlaceRef { name, key } => {
                 let key = match key {
                     None => None,
                     Some(k) => Some(self.constant(&key_term(k))?),
                 };
-                self.map.param(self.context, name, key.as_deref())
+                self.map.expected(self.context, name, key.as_deref())
             }
             _ => None,
         }
@@ -711,10 +717,11 @@ fn atom_reg(b: &mut Builder, scope: &Scope, atom: &Atom, acc: &Acc) -> Reg {
             (Some(term), Some(similarity)) => match scope.expectation(term) {
                 // A place that expects nothing for this percept cannot be matched by it.
                 None => b.c(0.0),
-                Some(centre) => b.mk(Op::Match {
+                Some(expected) => b.mk(Op::Match {
                     slot,
                     similarity: similarity as u32,
-                    centre,
+                    centre: expected.centre(),
+                    half: expected.half_width(),
                 }),
             },
             (Some(_), None) => b.mk(Op::Degree(slot)),

@@ -145,9 +145,10 @@ impl<'a> Interpreter<'a> {
                     return match (expect, similarity) {
                         (Some((_, term)), Some(sim)) => match scope.expectation(&term.node) {
                             None => 0.0,
-                            Some(centre) => {
+                            Some(e) => {
                                 let x = frame.value.get(i).copied().unwrap_or(f64::NAN);
-                                degree.min(clamp_degree(sim.degree(x, centre)))
+                                let mu = sim.degree_within(x, e.centre(), e.half_width());
+                                degree.min(clamp_degree(mu))
                             }
                         },
                         _ => degree,

@@ -25,6 +25,7 @@
 
 pub mod compile;
 pub mod frame;
+pub mod grid_tracker;
 pub mod interpret;
 pub mod outcome;
 pub mod tape;

@@ -39,8 +39,10 @@ pub enum Op {
         slot: PerceptSlot,
         /// Index into the tape's similarities.
         similarity: u32,
-        /// The expected value θ.
+        /// The expected value θ (the middle of an expected range).
         centre: f64,
+        /// Half the width of the expected range (0 for a single value).
+        half: f64,
     },
     /// Lattice conjunction.
     Min(Reg, Reg),
@@ -123,6 +125,7 @@ impl Tape {
                     slot,
                     similarity,
                     centre,
+                    half,
                 } => {
                     let s = slot.0 as usize;
                     let d = clamp_degree(frame.degree.get(s).copied().unwrap_or(0.0));
@@ -130,7 +133,7 @@ impl Tape {
                     let sim = self
                         .similarities
                         .get(similarity as usize)
-                        .map_or(0.0, |t| t.degree(x, centre));
+                        .map_or(0.0, |t| t.degree_within(x, centre, half));
                     d.min(clamp_degree(sim))
                 }
                 Op::Min(a, b) => regs[a as usize].min(regs[b as usize]),
@@ -197,12 +200,18 @@ impl Tape {
                 slot,
                 similarity,
                 centre,
+                half,
             } => {
                 let sim = self
                     .similarity_names
                     .get(similarity as usize)
                     .map_or("?", String::as_str);
-                leaf(s, &format!("{} ~{} {}", name(slot), sim, fmt_num(centre)));
+                let expect = if half > 0.0 {
+                    format!("{}..{}", fmt_num(centre - half), fmt_num(centre + half))
+                } else {
+                    fmt_num(centre)
+                };
+                leaf(s, &format!("{} ~{} {}", name(slot), sim, expect));
             }
             Op::Min(..) | Op::Max(..) => {
                 let is_min = matches!(op, Op::Min(..));

@@ -20,6 +20,31 @@
 //! N_j    = 1 − max_{k≠j} π'_k,   Inc = 1 − max c
 //! ```
 //!
+//! # With a heading: displacement gates
+//! A frame may carry the robot's heading in the map frame (a compass, or the axis-locked estimate
+//! of [`crate::percept::compass`]). Then each anchor also integrates the **displacement**
+//! `D_i` since it was set, each odometry increment rotated by the heading of the frame it
+//! started from, and its gate compares *where* the robot went, not only how far:
+//!
+//! ```text
+//! D_i  ← D_i + Rot(θ_prev)·(dx, dy)
+//! d_ij = distance between the extent of P_i moved by D_i and the extent of P_j (0 if they meet)
+//! R_ij = μ(d_ij)                          1 up to tolerance_d + tolerance_d_rel·s_i, then falling
+//!                                         to 0 over slope_d + slope_d_rel·s_i (odometry drifts
+//!                                         with the distance travelled)
+//! ```
+//!
+//! This is the DESIGN's "odometry used for consistency checks with the metrics of the map" with
+//! the map's metric layer (place extents) rather than its path lengths: a robot that takes the
+//! long way round a ring corridor is not lost by it, and two places equally far along the graph
+//! but in different directions are told apart. The extent of `P_i` stands for where the robot
+//! was when it last had evidence of `P_i` (anywhere in it). Boxes and discs are both taken as
+//! boxes with a rounding radius (a disc: its centre, rounded by its radius), so one gap formula
+//! serves every pair. An anchor whose displacement is unknown — an increment
+//! arrived with no heading for it — falls back to the path gate above until it is set again.
+//! Between two frames with headings the increment is rotated by the earlier one; a missing
+//! heading is bridged by the odometry's `dtheta` from the last known one.
+//!
 //! When `max c` falls below `conflict`, belief and evidence do not overlap; as paper 000 does
 //! for incompatible fuzzy sets, the tracker then keeps their union, `c_j = max(pred_j, e_j)`, and
 //! reports the conflict as `Inc` (so the frame is *disoriented, inconsistent*).
@@ -40,19 +65,102 @@
 //! evidence of the wrong length reads its missing places as "no evidence". Depends on `logic`
 //! and `map` (path lengths, extents) only.
 
+use super::grid_tracker::{GridTrackConfig, GridTracker};
 use crate::io::record::Odometry;
 use crate::logic::{
     clamp_degree, decide, Decision, DecisionParams, Disoriented, Normalisation, PlaceDistribution,
-    TNorm,
+    TNorm, Trapezoid,
 };
 use crate::map::{Extent, Map};
 use serde::{Deserialize, Serialize};
+
+/// Either tracker, as the configuration chooses: along the map graph ([`Tracker`]) or on a
+/// metric grid over the place extents ([`GridTracker`], when `grid` is set).
+#[derive(Debug, Clone)]
+pub enum PlaceTracker {
+    /// Along the map graph.
+    Graph(Box<Tracker>),
+    /// On a metric grid.
+    Grid(Box<GridTracker>),
+}
+
+impl PlaceTracker {
+    /// The tracker `cfg` asks for over `map`, deciding with `params`.
+    pub fn new(map: &Map, params: DecisionParams, cfg: TrackerConfig) -> PlaceTracker {
+        match cfg.grid {
+            Some(_) => PlaceTracker::Grid(Box::new(GridTracker::new(map, params, &cfg))),
+            None => PlaceTracker::Graph(Box::new(Tracker::new(map, params, cfg))),
+        }
+    }
+
+    /// One frame (see [`Tracker::step`] and [`GridTracker::step`]). Allocates nothing.
+    pub fn step(
+        &mut self,
+        evidence: &PlaceDistribution,
+        odometry: Odometry,
+        heading: Option<f64>,
+    ) -> Decision {
+        match self {
+            PlaceTracker::Graph(t) => t.step(evidence, odometry, heading),
+            PlaceTracker::Grid(t) => t.step(evidence, odometry, heading),
+        }
+    }
+
+    /// The tracked distribution of the last step.
+    pub fn distribution(&self) -> &PlaceDistribution {
+        match self {
+            PlaceTracker::Graph(t) => t.distribution(),
+            PlaceTracker::Grid(t) => t.distribution(),
+        }
+    }
+
+    /// The decision of the last step.
+    pub fn decision(&self) -> Decision {
+        match self {
+            PlaceTracker::Graph(t) => t.decision(),
+            PlaceTracker::Grid(t) => t.decision(),
+        }
+    }
+}
+
+/// A tracker's decision before any frame: disoriented (no place at all if the map has none).
+pub(super) fn undecided(n: usize) -> Decision {
+    if n == 0 {
+        Decision::Disoriented(Disoriented::NoPlaces)
+    } else {
+        Decision::Disoriented(Disoriented::NothingAboveThreshold {
+            best: 0,
+            support: 0.0,
+        })
+    }
+}
+
+/// A tracked decision stands only if some place has support ≥ `min_support` in the frame:
+/// tracking sharpens evidence, it does not announce a place from odometry alone. `support` is
+/// the chosen place's support.
+pub(super) fn unless_unsupported(
+    d: Decision,
+    max_support: f64,
+    min_support: f64,
+    support: impl Fn(usize) -> f64,
+) -> Decision {
+    match d {
+        Decision::Place { place, .. } if max_support < min_support => {
+            Decision::Disoriented(Disoriented::NothingAboveThreshold {
+                best: place,
+                support: support(place),
+            })
+        }
+        d => d,
+    }
+}
 
 /// Tracker parameters, loadable from RON (every field optional; defaults below).
 ///
 /// ```ron
 /// (bias: 0.1, tnorm: product, tolerance: 0.8, tolerance_rel: 0.1, slope: 1.0, slope_rel: 0.1,
-///  anchor_support: 0.5, min_support: 0.3, normalisation: product, conflict: 0.3)
+///  anchor_support: 0.5, min_support: 0.3, normalisation: product, conflict: 0.3,
+///  use_heading: true, tolerance_d: 0.5, tolerance_d_rel: 0.05, slope_d: 1.0, slope_d_rel: 0.05)
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -79,6 +187,22 @@ pub struct TrackerConfig {
     /// Height of the intersection below which belief and evidence are taken not to overlap,
     /// and their union is used instead (paper 000's rule for incompatible sets; default 0.3).
     pub conflict: f64,
+    /// Use displacement gates when frames carry a heading (default true; false keeps the path
+    /// gates whatever the stream carries).
+    pub use_heading: bool,
+    /// Displacement gate: distance between the moved extent and the target extent that is
+    /// still a full match, metres (default 0.5).
+    pub tolerance_d: f64,
+    /// Extra full-match distance per metre travelled since the anchor (default 0.05).
+    pub tolerance_d_rel: f64,
+    /// Displacement gate: run of its slope, metres (default 1.0).
+    pub slope_d: f64,
+    /// Extra slope per metre travelled since the anchor (default 0.05).
+    pub slope_d_rel: f64,
+    /// Track on a metric grid over the place extents instead of along the graph
+    /// ([`super::grid_tracker`]); then only `bias` and `min_support` of the fields above apply.
+    /// Default `None` (the graph).
+    pub grid: Option<GridTrackConfig>,
 }
 
 impl Default for TrackerConfig {
@@ -94,6 +218,12 @@ impl Default for TrackerConfig {
             min_support: 0.3,
             normalisation: Normalisation::Product,
             conflict: 0.3,
+            use_heading: true,
+            tolerance_d: 0.5,
+            tolerance_d_rel: 0.05,
+            slope_d: 1.0,
+            slope_d_rel: 0.05,
+            grid: None,
         }
     }
 }
@@ -146,6 +276,10 @@ impl TrackerConfig {
             ("tolerance_rel", self.tolerance_rel),
             ("slope", self.slope),
             ("slope_rel", self.slope_rel),
+            ("tolerance_d", self.tolerance_d),
+            ("tolerance_d_rel", self.tolerance_d_rel),
+            ("slope_d", self.slope_d),
+            ("slope_d_rel", self.slope_d_rel),
         ];
         for (field, value) in lengths {
             if !(value >= 0.0 && value.is_finite()) {
@@ -155,6 +289,14 @@ impl TrackerConfig {
                     range: "finite, ≥ 0",
                 });
             }
+        }
+        if let Some(g) = &self.grid {
+            g.validate()
+                .map_err(|(field, value, range)| TrackerConfigError::Range {
+                    field,
+                    value,
+                    range,
+                })?;
         }
         Ok(())
     }
@@ -167,6 +309,13 @@ pub struct TrackerState {
     pub anchor: Vec<f64>,
     /// Odometry distance since each anchor, metres.
     pub since: Vec<f64>,
+    /// Displacement since each anchor in the map frame, metres, where known (absent in states
+    /// saved before displacement gates existed: then unknown).
+    #[serde(default)]
+    pub displacement: Vec<Option<[f64; 2]>>,
+    /// The heading of the last frame, degrees, if known.
+    #[serde(default)]
+    pub heading: Option<f64>,
 }
 
 /// Distances are capped so that they never overflow (far beyond any map's diameter).
@@ -182,6 +331,11 @@ pub struct Tracker {
     gates: Gates,
     anchor: Vec<f64>,
     since: Vec<f64>,
+    /// `D_i`, map frame, metres; meaningful where `disp_known[i]`.
+    disp: Vec<[f64; 2]>,
+    disp_known: Vec<bool>,
+    /// Heading of the previous frame, radians, once some frame carried one.
+    heading: Option<f64>,
     pred: Vec<f64>,
     /// `R_ij` at this step's distances, row-major: filled by the blur, reused by the revision
     /// (`since` does not change in between).
@@ -228,6 +382,17 @@ struct Gates {
     /// `d − half` and the division, so `1 − (d − half)/slope` is surely ≤ 0 (or, slope 0,
     /// `d > half`). NaN (an unvalidated NaN config) compares false: the row is never skipped.
     bound: Vec<f64>,
+    /// Each place's extent as a rounded box, for the displacement gates.
+    extents: Vec<([f64; 4], f64)>,
+}
+
+/// An extent as a box `[x_lo, x_hi, y_lo, y_hi]` with a rounding radius: a box is itself with
+/// radius 0, a disc its centre with the disc's radius, so that one distance serves all pairs.
+fn rounded_box(pose: (f64, f64), e: Extent) -> ([f64; 4], f64) {
+    match e {
+        Extent::Radius(r) => ([pose.0, pose.0, pose.1, pose.1], r.max(0.0)),
+        Extent::Box { x0, y0, x1, y1 } => ([x0.min(x1), x0.max(x1), y0.min(y1), y0.max(y1)], 0.0),
+    }
 }
 
 /// One row of [`Gates`]: the pairs `(i, ·)`.
@@ -246,6 +411,10 @@ impl Gates {
             half: vec![f64::NEG_INFINITY; n * n],
             slope: vec![0.0; n * n],
             bound: vec![0.0; n],
+            extents: places
+                .iter()
+                .map(|p| rounded_box((p.pose.0, p.pose.1), p.extent))
+                .collect(),
         };
         for i in 0..n {
             for j in 0..n {
@@ -288,6 +457,33 @@ impl Gates {
                 slope,
             })
     }
+
+    /// `out[j] = R_ij` by displacement: the extent of anchor `i` moved by `d` against each
+    /// extent `j`, through `shape` (the gate at the anchor's distance, see [`displacement_gate`]).
+    fn fill_displacement(&self, i: usize, d: [f64; 2], shape: &Trapezoid, out: &mut [f64]) {
+        let Some(&(a, ra)) = self.extents.get(i) else {
+            return;
+        };
+        let moved = [a[0] + d[0], a[1] + d[0], a[2] + d[1], a[3] + d[1]];
+        for (o, (b, rb)) in out.iter_mut().zip(&self.extents) {
+            let gx = (b[0] - moved[1]).max(moved[0] - b[1]).max(0.0);
+            let gy = (b[2] - moved[3]).max(moved[2] - b[3]).max(0.0);
+            let gap = (gx.hypot(gy) - ra - rb).max(0.0);
+            *o = shape.degree(gap, 0.0);
+        }
+    }
+}
+
+/// The displacement gate `s` metres after its anchor: full match within `tolerance_d +
+/// tolerance_d_rel·s` of the target extent, falling to 0 over `slope_d + slope_d_rel·s`.
+pub fn displacement_gate(cfg: &TrackerConfig, s: f64) -> Trapezoid {
+    Trapezoid {
+        core: 2.0 * (cfg.tolerance_d + cfg.tolerance_d_rel * s),
+        slope: cfg.slope_d + cfg.slope_d_rel * s,
+        height: 1.0,
+        bias: 0.0,
+        period: None,
+    }
 }
 
 impl GateRow<'_> {
@@ -314,6 +510,9 @@ impl Tracker {
             gates: Gates::new(map, &cfg),
             anchor: vec![1.0; n],
             since: vec![0.0; n],
+            disp: vec![[0.0; 2]; n],
+            disp_known: vec![true; n],
+            heading: None,
             pred: vec![1.0; n],
             reach: vec![0.0; n * n],
             live: vec![true; n],
@@ -330,16 +529,12 @@ impl Tracker {
     pub fn reset(&mut self) {
         self.anchor.fill(1.0);
         self.since.fill(0.0);
+        self.disp.fill([0.0; 2]);
+        self.disp_known.fill(true);
+        self.heading = None;
         self.pred.fill(1.0);
         self.dist = PlaceDistribution::new(self.n);
-        self.decision = if self.n == 0 {
-            Decision::Disoriented(Disoriented::NoPlaces)
-        } else {
-            Decision::Disoriented(Disoriented::NothingAboveThreshold {
-                best: 0,
-                support: 0.0,
-            })
-        };
+        self.decision = undecided(self.n);
     }
 
     /// The configuration.
@@ -348,8 +543,15 @@ impl Tracker {
     }
 
     /// One frame: carries the belief by the odometry increment, intersects it with `evidence`
-    /// (the engine's distribution for this frame) and decides. Allocates nothing.
-    pub fn step(&mut self, evidence: &PlaceDistribution, odometry: Odometry) -> Decision {
+    /// (the engine's distribution for this frame) and decides. `heading` is the frame's heading
+    /// in the map frame, degrees, if the stream carries one (see the module docs). Allocates
+    /// nothing.
+    pub fn step(
+        &mut self,
+        evidence: &PlaceDistribution,
+        odometry: Odometry,
+        heading: Option<f64>,
+    ) -> Decision {
         let n = self.n;
         let b = clamp_degree(self.cfg.bias);
         let t = self.cfg.tnorm;
@@ -358,6 +560,7 @@ impl Tracker {
         for s in &mut self.since {
             *s = (*s + ds).min(MAX_DISTANCE);
         }
+        self.carry_displacement(odometry, ds, heading);
         let ev =
             |v: &[f64], j: usize, missing: f64| clamp_degree(v.get(j).copied().unwrap_or(missing));
         for (j, e) in self.evid.iter_mut().enumerate() {
@@ -374,14 +577,24 @@ impl Tracker {
         if n > 0 {
             let rows = self.reach.chunks_exact_mut(n).zip(self.gates.rows(n));
             let anchors = self.anchor.iter().zip(&self.since).zip(&self.gates.bound);
-            for (((row, gate), live), ((&a, &s), &bound)) in
-                rows.zip(self.live.iter_mut()).zip(anchors)
+            let moved = self.disp.iter().zip(&self.disp_known);
+            for (i, ((((row, gate), live), ((&a, &s), &bound)), (&d, &known))) in rows
+                .zip(self.live.iter_mut())
+                .zip(anchors)
+                .zip(moved)
+                .enumerate()
             {
-                *live = s <= bound || bound.is_nan();
-                if !*live {
-                    continue;
+                if known {
+                    *live = true;
+                    let shape = displacement_gate(&self.cfg, s);
+                    self.gates.fill_displacement(i, d, &shape, row);
+                } else {
+                    *live = s <= bound || bound.is_nan();
+                    if !*live {
+                        continue;
+                    }
+                    gate.fill(s, row);
                 }
-                gate.fill(s, row);
                 for (p, &r) in self.pred.iter_mut().zip(row.iter()) {
                     *p = p.max(a.min(r));
                 }
@@ -441,6 +654,8 @@ impl Tracker {
             if ev(&evidence.support, j, 0.0) >= self.cfg.anchor_support {
                 self.anchor[j] = self.dist.possibility[j];
                 self.since[j] = 0.0;
+                self.disp[j] = [0.0; 2];
+                self.disp_known[j] = true;
             }
         }
         let top = self.anchor.iter().copied().fold(0.0, f64::max);
@@ -451,18 +666,52 @@ impl Tracker {
         } else {
             self.anchor.fill(1.0);
             self.since.fill(0.0);
+            self.disp.fill([0.0; 2]);
+            self.disp_known.fill(true);
         }
 
         self.decision = decide(&self.dist, self.params);
-        if max_support < self.cfg.min_support {
-            if let Decision::Place { place, .. } = self.decision {
-                self.decision = Decision::Disoriented(Disoriented::NothingAboveThreshold {
-                    best: place,
-                    support: ev(&evidence.support, place, 0.0),
-                });
+        self.decision = unless_unsupported(self.decision, max_support, self.cfg.min_support, |k| {
+            ev(&evidence.support, k, 0.0)
+        });
+        self.decision
+    }
+
+    /// Adds the increment to every anchor's displacement, rotated by the heading it started
+    /// from; without one (or with `use_heading` off) the displacements become unknown.
+    fn carry_displacement(&mut self, odometry: Odometry, ds: f64, heading: Option<f64>) {
+        let dtheta = odometry.dtheta.to_radians();
+        let now = heading
+            .filter(|h| self.cfg.use_heading && h.is_finite())
+            .map(f64::to_radians);
+        let start = match (self.heading, now) {
+            (Some(prev), _) => Some(prev),
+            (None, Some(h)) if dtheta.is_finite() => Some(h - dtheta),
+            _ => None,
+        };
+        if ds > 0.0 {
+            match start {
+                Some(th) => {
+                    let (sn, cs) = th.sin_cos();
+                    let step = [
+                        cs * odometry.dx - sn * odometry.dy,
+                        sn * odometry.dx + cs * odometry.dy,
+                    ];
+                    for d in &mut self.disp {
+                        d[0] = (d[0] + step[0]).clamp(-MAX_DISTANCE, MAX_DISTANCE);
+                        d[1] = (d[1] + step[1]).clamp(-MAX_DISTANCE, MAX_DISTANCE);
+                    }
+                }
+                None => self.disp_known.fill(false),
             }
         }
-        self.decision
+        // A frame without a heading is bridged by the odometry's turn from the last one.
+        self.heading = now.or_else(|| {
+            self.heading
+                .map(|h| h + dtheta)
+                .filter(|h| h.is_finite())
+                .map(|h| h.rem_euclid(std::f64::consts::TAU))
+        });
     }
 
     /// The tracked distribution of the last step (support and exclusion are the evidence's).
@@ -485,6 +734,13 @@ impl Tracker {
         TrackerState {
             anchor: self.anchor.clone(),
             since: self.since.clone(),
+            displacement: self
+                .disp
+                .iter()
+                .zip(&self.disp_known)
+                .map(|(&d, &k)| k.then_some(d))
+                .collect(),
+            heading: self.heading.map(f64::to_degrees),
         }
     }
 
@@ -503,6 +759,22 @@ impl Tracker {
                 0.0
             };
         }
+        for (i, (d, known)) in self.disp.iter_mut().zip(&mut self.disp_known).enumerate() {
+            match state.displacement.get(i).copied().flatten() {
+                Some(v) if v.iter().all(|c| c.is_finite()) => {
+                    *d = v.map(|c| c.clamp(-MAX_DISTANCE, MAX_DISTANCE));
+                    *known = true;
+                }
+                _ => {
+                    *d = [0.0; 2];
+                    *known = false;
+                }
+            }
+        }
+        self.heading = state
+            .heading
+            .filter(|h| h.is_finite())
+            .map(|h| h.to_radians().rem_euclid(std::f64::consts::TAU));
         true
     }
 }

@@ -3,7 +3,8 @@
 //! ([`crate::percept::ScanExtractor`]: `laser_wall(Front)`, `laser_corner(Front)`,
 //! `sonar_wall(Left|Right)`; [`crate::percept::layout`]: `corridor_width`, `side_openings`;
 //! when `compass.enabled`, [`crate::percept::compass`]: `free_range(East|North|West|South)`) and,
-//! when a map is given, the ground truth. Library code behind `lplace extract --from carmen`;
+//! when a map is given, the ground truth. With the compass, `heading` carries its axis-locked
+//! heading estimate. Library code behind `lplace extract --from carmen`;
 //! like the readers it does no I/O of its own.
 //!
 //! # Odometry
@@ -130,6 +131,12 @@ impl<'m> CarmenFramer<'m> {
                 });
             }
         }
+        // The axis-locked heading is the extractor's own estimate (no corrected pose enters it).
+        let heading = self
+            .compass
+            .as_ref()
+            .and_then(CompassTracker::pose)
+            .map(|p| wrap_deg(p.theta.to_degrees()));
         let truth = self.places.map(|places| {
             let p = scan.pose;
             Truth {
@@ -153,6 +160,7 @@ impl<'m> CarmenFramer<'m> {
                 dy: p.y,
                 dtheta: wrap_deg(p.theta.to_degrees()),
             }),
+            heading,
             percepts,
             truth,
         }

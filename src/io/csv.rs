@@ -5,6 +5,7 @@
 //! | `version` | format version (optional; must be 1) |
 //! | `t` | time in seconds |
 //! | `dx`, `dy`, `dtheta` | odometry increment (metres forward, left; degrees) |
+//! | `heading` | heading in the map frame, degrees (optional; empty = unknown) |
 //! | `truth_place` | true place name; empty between places |
 //! | `truth_x`, `truth_y`, `truth_theta` | true pose |
 //! | `deg:NAME` or `deg:NAME(ARG ARG)` | degree of a percept instance; empty = not perceived |
@@ -27,6 +28,7 @@ enum Col {
     Dx,
     Dy,
     Dtheta,
+    Heading,
     TruthPlace,
     TruthX,
     TruthY,
@@ -84,6 +86,7 @@ impl CsvLayout {
                 "dx" => Col::Dx,
                 "dy" => Col::Dy,
                 "dtheta" => Col::Dtheta,
+                "heading" => Col::Heading,
                 "truth_place" => Col::TruthPlace,
                 "truth_x" => Col::TruthX,
                 "truth_y" => Col::TruthY,
@@ -96,7 +99,7 @@ impl CsvLayout {
                     } else {
                         problems.push(Rejection::CsvColumn {
                             column: cell.to_string(),
-                            reason: "not a known column (deg:…, val:…, t, dx, dy, dtheta, truth_…)",
+                            reason: "not a known column (deg:…, val:…, t, dx, dy, dtheta, heading, truth_…)",
                         });
                         layout.cols.push(Col::Ignored);
                         continue;
@@ -248,6 +251,7 @@ impl CsvLayout {
                 Col::Dx => meta.odometry.dx = num(i, problem).unwrap_or(0.0),
                 Col::Dy => meta.odometry.dy = num(i, problem).unwrap_or(0.0),
                 Col::Dtheta => meta.odometry.dtheta = num(i, problem).unwrap_or(0.0),
+                Col::Heading => meta.heading = num(i, problem),
                 Col::TruthPlace => {
                     let c = cell(i);
                     if !c.is_empty() {
@@ -346,7 +350,7 @@ impl CsvWriter {
     pub fn write_header(&self, out: &mut impl Write) -> std::io::Result<()> {
         write!(
             out,
-            "version,t,dx,dy,dtheta,truth_place,truth_x,truth_y,truth_theta"
+            "version,t,dx,dy,dtheta,heading,truth_place,truth_x,truth_y,truth_theta"
         )?;
         for (name, args, has_value) in &self.instances {
             write!(out, ",{}", Self::column("deg", name, args))?;
@@ -365,12 +369,13 @@ impl CsvWriter {
         let pose = truth.pose;
         write!(
             out,
-            "{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{}",
             rec.version.unwrap_or(FORMAT_VERSION),
             opt(rec.t),
             odo.dx,
             odo.dy,
             odo.dtheta,
+            opt(rec.heading),
             truth.place.unwrap_or_default(),
             opt(pose.map(|p| p[0])),
             opt(pose.map(|p| p[1])),

@@ -51,6 +51,7 @@ const fn word(k: &[u8]) -> u64 {
 const K_VERSION: u64 = word(b"version");
 const K_T: u64 = word(b"t");
 const K_ODOMETRY: u64 = word(b"odometry");
+const K_HEADING: u64 = word(b"heading");
 const K_PERCEPTS: u64 = word(b"percepts");
 const K_TRUTH: u64 = word(b"truth");
 const K_DX: u64 = word(b"dx");
@@ -327,6 +328,10 @@ fn record(
             K_ODOMETRY => {
                 once(&mut seen, 4)?;
                 meta.odometry = odometry(cur)?;
+            }
+            K_HEADING => {
+                once(&mut seen, 32)?;
+                meta.heading = cur.opt_num()?;
             }
             K_PERCEPTS => {
                 once(&mut seen, 8)?;

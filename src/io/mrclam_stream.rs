@@ -114,6 +114,7 @@ pub fn to_record(
             dy: r6(f.odometry.lateral),
             dtheta: r6(f.odometry.turn.to_degrees()),
         }),
+        heading: None,
         percepts,
         truth,
     }

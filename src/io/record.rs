@@ -3,7 +3,7 @@
 //!
 //! ```json
 //! {"version": 1, "t": 12.5,
-//!  "odometry": {"dx": 0.10, "dy": 0.0, "dtheta": 0.0},
+//!  "odometry": {"dx": 0.10, "dy": 0.0, "dtheta": 0.0}, "heading": 90.0,
 //!  "percepts": [{"name": "beacon_angle", "value": 116.0, "degree": 0.9},
 //!               {"name": "sonar_wall", "args": ["North"], "degree": 0.8}],
 //!  "truth": {"place": "P2", "pose": [4.5, 3.4, 90.0]}}
@@ -72,6 +72,12 @@ pub struct FrameRecord {
     /// Odometry increment since the previous frame.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub odometry: Option<Odometry>,
+    /// The robot's heading in the map frame, degrees counter-clockwise from the map's +x, when
+    /// the source has one (a compass, or an axis-locked estimate such as
+    /// [`crate::percept::compass`]). With it the tracker carries displacement vectors, not
+    /// just distances.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heading: Option<f64>,
     /// The percepts.
     pub percepts: Vec<PerceptRecord>,
     /// Ground truth, if known.

@@ -152,6 +152,8 @@ pub struct FrameMeta {
     pub t: Option<f64>,
     /// Odometry increment (zero when absent).
     pub odometry: Odometry,
+    /// Heading in the map frame, degrees, if given.
+    pub heading: Option<f64>,
     /// True when the record carries a `truth` object.
     pub truth_known: bool,
     /// The true place (`None` between places or when unknown).
@@ -415,6 +417,11 @@ pub(crate) fn check_meta(meta: &FrameMeta, last_t: Option<f64>) -> Option<Reject
         ("odometry dtheta", o.dtheta),
     ] {
         if let Some(r) = finite(f, v) {
+            return Some(r);
+        }
+    }
+    if let Some(h) = meta.heading {
+        if let Some(r) = finite("heading", h) {
             return Some(r);
         }
     }
@@ -918,6 +925,7 @@ enum RecordKey {
     Version,
     T,
     Odometry,
+    Heading,
     Percepts,
     Truth,
     #[serde(other)]
@@ -984,6 +992,7 @@ impl<'de> Visitor<'de> for RecordSeed<'_, '_> {
                         dtheta: o.dtheta.0,
                     };
                 }
+                RecordKey::Heading => ctx.meta.heading = map.next_value::<OptNum>()?.0,
                 RecordKey::Percepts => {
                     map.next_value_seed(PerceptsSeed(ctx))?;
                     ctx.has_percepts = true;

@@ -14,6 +14,12 @@
 //!   with truth, *without alignment* (the estimate's frame is the map's frame);
 //!   RMSE, median and maximum, over the frames from the first fix on
 //!   ([`RunReport::ate`]) and over all frames ([`RunReport::ate_all`]).
+//! * **Common window** of several runs over the same frames: the frames from the latest of
+//!   their first fixes on ([`common_window_start`]), i.e. the frames where every one of them
+//!   has had its fix; [`RunReport::ate_from`] scores a run over it. Methods that fix at very
+//!   different times (the grid in seconds, a particle filter up to a minute later) are compared
+//!   on the same frames only there: "from each method's own first fix" counts different frames
+//!   per method, and "all frames" charges each method for its time before its fix.
 //! * **Fix**: the first frame whose reliability reaches the method's
 //!   [`Localizer::fix_reliability`]; the *time to first fix* is measured from
 //!   the first frame (every method starts in total ignorance).
@@ -245,6 +251,36 @@ pub struct RunReport {
     pub thinned: usize,
 }
 
+impl RunReport {
+    /// Frame time (same clock as the frames) of the first fix, if any.
+    pub fn first_fix_time(&self) -> Option<f64> {
+        let t0 = self.frames.first()?.t;
+        self.first_fix.map(|f| t0 + f.after)
+    }
+
+    /// ATE over the frames at or after time `t` (same clock as the frames); `None` when none of
+    /// them has truth.
+    pub fn ate_from(&self, t: f64) -> Option<AteStats> {
+        AteStats::from_errors(
+            self.frames
+                .iter()
+                .filter(|f| f.t >= t)
+                .filter_map(|f| f.error),
+        )
+    }
+}
+
+/// Start (frame time) of the common window of `runs` (module docs): the latest of their first
+/// fixes; `None` when `runs` is empty or one of them never has a fix.
+pub fn common_window_start<'r>(runs: impl IntoIterator<Item = &'r RunReport>) -> Option<f64> {
+    let mut start: Option<f64> = None;
+    for r in runs {
+        let t = r.first_fix_time()?;
+        start = Some(start.map_or(t, |s: f64| s.max(t)));
+    }
+    start
+}
+
 /// Steps one [`Localizer`] over frames and collects what [`RunReport`] needs.
 #[derive(Debug, Clone)]
 pub struct Drive<'t> {
@@ -441,5 +477,59 @@ pub fn recovery_time(frames: &[FrameEstimate], since: f64, radius: f64, hold: f6
     match best {
         Some(t) => Recovery::Recovered { after: t - since },
         None => Recovery::NotRecovered,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A run over frames at t = 10, 11, …, with these errors and its first fix at `fix`.
+    fn report(errors: &[Option<f64>], fix: Option<f64>) -> RunReport {
+        let frames: Vec<FrameEstimate> = errors
+            .iter()
+            .enumerate()
+            .map(|(k, &e)| FrameEstimate {
+                t: 10.0 + k as f64,
+                pose: Pose2::default(),
+                reliability: 0.0,
+                heading_reliability: 0.0,
+                truth: e.map(|_| Pose2::default()),
+                error: e,
+            })
+            .collect();
+        RunReport {
+            frames,
+            ate: None,
+            ate_all: None,
+            heading_rmse: None,
+            first_fix: fix.map(|after| FirstFix { after, error: None }),
+            recovery: None,
+            used: 0,
+            unknown: 0,
+            rejected: 0,
+            thinned: 0,
+        }
+    }
+
+    #[test]
+    fn common_window_is_from_the_latest_fix() {
+        let e = [Some(3.0), Some(4.0), None, Some(1.0), Some(2.0)];
+        let early = report(&e, Some(1.0)); // fix at t = 11
+        let late = report(&e, Some(3.0)); // fix at t = 13
+        let never = report(&e, None);
+        assert_eq!(early.first_fix_time(), Some(11.0));
+        assert_eq!(common_window_start([&early, &late]), Some(13.0));
+        assert_eq!(common_window_start([&late, &early]), Some(13.0));
+        assert_eq!(common_window_start([&early, &never]), None);
+        assert_eq!(common_window_start(std::iter::empty::<&RunReport>()), None);
+        // Frames at t = 13, 14: errors 1 and 2 → RMSE √2.5, median 1.5, max 2.
+        let a = early.ate_from(13.0).unwrap();
+        assert_eq!(a.count, 2);
+        assert!((a.rmse - 2.5f64.sqrt()).abs() < 1e-12);
+        assert_eq!((a.median, a.max), (1.5, 2.0));
+        // From t = 12 the frame without truth adds nothing.
+        assert_eq!(early.ate_from(12.0), a.into());
+        assert_eq!(early.ate_from(15.0), None);
     }
 }

@@ -14,6 +14,10 @@
 //! makes a crisp interval. The bias `b` is the possibility that the reading is an outlier: a value
 //! far from the expectation keeps possibility `b`, not 0. With a `period` (360 for degrees), the
 //! distance `|x − θ|` is taken around the circle.
+//!
+//! A place may expect a *range* of values rather than one (`lo .. hi`): then the distance is to
+//! the nearest point of the range, `max(0, |x − θ| − w)` with θ its middle and `w` its half
+//! width — the same as a trapezoid whose core is widened by the range ([`Trapezoid::degree_within`]).
 
 use serde::{Deserialize, Serialize};
 
@@ -49,6 +53,14 @@ impl Trapezoid {
     /// that could not be measured is as possible as an outlier, no more.
     #[inline]
     pub fn degree(&self, x: f64, centre: f64) -> f64 {
+        self.degree_within(x, centre, 0.0)
+    }
+
+    /// `μ(x)` against the range of half width `half` around `centre`: the distance is taken to
+    /// the range's nearest point (`half = 0` is [`Trapezoid::degree`]). A negative or NaN `half`
+    /// counts as 0. NaN or infinite inputs give the bias.
+    #[inline]
+    pub fn degree_within(&self, x: f64, centre: f64, half: f64) -> f64 {
         let mut d = (x - centre).abs();
         if !d.is_finite() {
             return self.bias;
@@ -58,6 +70,9 @@ impl Trapezoid {
                 d %= p;
                 d = d.min(p - d);
             }
+        }
+        if half > 0.0 {
+            d = (d - half).max(0.0);
         }
         let half = 0.5 * self.core;
         let f = if d <= half {
@@ -91,6 +106,29 @@ mod tests {
         assert!((t.degree(12.0, 10.0) - 0.55).abs() < 1e-12);
         assert!((t.degree(7.0, 10.0) - 0.1).abs() < 1e-12);
         assert!((t.degree(f64::NAN, 10.0) - 0.1).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_range_widens_the_core_by_its_width() {
+        // Range 2 .. 4 (θ = 3, w = 1), core 1 (±0.5), slope 2, bias 0: inside the range and up
+        // to 0.5 beyond it μ = 1; at 5.5 we are 1.5 past the range, 1 into the slope: μ = 0.5;
+        // the same as a single value with core 1 + 2·1 = 3.
+        let t = Trapezoid {
+            core: 1.0,
+            slope: 2.0,
+            height: 1.0,
+            bias: 0.0,
+            period: None,
+        };
+        let wide = Trapezoid { core: 3.0, ..t };
+        for x in [2.0, 3.7, 4.5, 0.5, 5.5, 7.0, 9.0] {
+            assert_eq!(t.degree_within(x, 3.0, 1.0), wide.degree(x, 3.0), "x = {x}");
+        }
+        assert_eq!(t.degree_within(3.7, 3.0, 1.0), 1.0);
+        assert!((t.degree_within(5.5, 3.0, 1.0) - 0.5).abs() < 1e-12);
+        assert_eq!(t.degree_within(9.0, 3.0, 1.0), 0.0);
+        // A NaN half width is a single value.
+        assert_eq!(t.degree_within(4.0, 3.0, f64::NAN), t.degree(4.0, 3.0));
     }
 
     #[test]

@@ -4,7 +4,7 @@
 //! `[0, 1]`, swapped box corners and features written twice in one place. All problems are
 //! reported, not just the first.
 
-use super::place::{corner_key, Extent, Landmark, Place, Room, DEFAULT_RADIUS};
+use super::place::{corner_key, Expected, Extent, Landmark, Place, Room, DEFAULT_RADIUS};
 use super::shortest_paths::floyd_warshall;
 use super::{Map, PathInfo};
 use crate::syntax::ast::{self, Feature, LandmarkKind, MapFile, MapItem};
@@ -284,10 +284,25 @@ fn build_place(
                 name,
                 key,
                 value,
+                upper,
                 span,
             } => {
                 let k = (name.node.clone(), key.as_ref().map(|k| k.node.clone()));
-                if place.params.insert(k, value.node).is_some() {
+                let hi = upper.as_ref().map_or(value.node, |u| u.node);
+                if hi < value.node {
+                    diags.push(Diagnostic::error(
+                        DiagnosticKind::EmptyRange {
+                            low: value.node,
+                            high: hi,
+                        },
+                        *span,
+                    ));
+                }
+                let expected = Expected {
+                    lo: value.node,
+                    hi: hi.max(value.node),
+                };
+                if place.params.insert(k, expected).is_some() {
                     diags.push(dup("param", name.node.clone(), *span));
                 }
             }

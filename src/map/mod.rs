@@ -11,7 +11,7 @@ mod build;
 mod place;
 pub mod shortest_paths;
 
-pub use place::{Extent, Landmark, Place, Room, DEFAULT_RADIUS};
+pub use place::{Expected, Extent, Landmark, Place, Room, DEFAULT_RADIUS};
 
 use petgraph::graph::{NodeIndex, UnGraph};
 use serde::{Deserialize, Serialize};
@@ -149,15 +149,21 @@ impl Map {
     /// direction in degrees in `[0, 360)` from the place to the landmark, measured in the map
     /// frame (0° along +x, counter-clockwise; the place's heading is *not* subtracted).
     pub fn param(&self, place: usize, name: &str, key: Option<&str>) -> Option<f64> {
+        self.expected(place, name, key).map(|e| e.centre())
+    }
+
+    /// A place parameter as written — a value or a range — with the same geometric fallbacks
+    /// as [`Map::param`] (which give single values).
+    pub fn expected(&self, place: usize, name: &str, key: Option<&str>) -> Option<Expected> {
         let p = self.places.get(place)?;
-        if let Some(v) = p.param(name, key) {
+        if let Some(v) = p.expected(name, key) {
             return Some(v);
         }
         let l = self.landmarks.get(self.landmark_index(key?)?)?;
         let (dx, dy) = (l.position.0 - p.pose.0, l.position.1 - p.pose.1);
         match name {
-            "range" => Some(dx.hypot(dy)),
-            "bearing" => Some(dy.atan2(dx).to_degrees().rem_euclid(360.0)),
+            "range" => Some(Expected::value(dx.hypot(dy))),
+            "bearing" => Some(Expected::value(dy.atan2(dx).to_degrees().rem_euclid(360.0))),
             _ => None,
         }
     }

@@ -26,6 +26,35 @@ pub enum Extent {
     },
 }
 
+/// A value a place expects: one number, or a range of equally expected values (`lo .. hi`,
+/// written `param free(North) = 0.4 .. 1.9;`), as a place that is a whole corridor expects
+/// different readings along its length. A similarity compares a reading with it by the
+/// distance to the nearest point of the range (see [`crate::logic::Trapezoid::degree_within`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Expected {
+    /// Lower end (the value itself for a single number).
+    pub lo: f64,
+    /// Upper end, `≥ lo`.
+    pub hi: f64,
+}
+
+impl Expected {
+    /// A single expected value.
+    pub fn value(v: f64) -> Expected {
+        Expected { lo: v, hi: v }
+    }
+
+    /// The middle of the range.
+    pub fn centre(&self) -> f64 {
+        0.5 * (self.lo + self.hi)
+    }
+
+    /// Half the range's width (0 for a single value).
+    pub fn half_width(&self) -> f64 {
+        0.5 * (self.hi - self.lo)
+    }
+}
+
 /// A place of the map.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Place {
@@ -44,7 +73,7 @@ pub struct Place {
     /// Corners by (direction, direction) with the two names in sorted order, with their degree.
     pub corners: BTreeMap<(String, String), f64>,
     /// Parameters by (name, key).
-    pub params: BTreeMap<(String, Option<String>), f64>,
+    pub params: BTreeMap<(String, Option<String>), Expected>,
     /// The place's declaration in the map file.
     #[serde(skip)]
     pub span: Span,
@@ -66,8 +95,13 @@ impl Place {
         self.corners.get(&key).copied().unwrap_or(0.0)
     }
 
-    /// A parameter written explicitly in the place's body.
+    /// A parameter written explicitly in the place's body (the middle of a range).
     pub fn param(&self, name: &str, key: Option<&str>) -> Option<f64> {
+        self.expected(name, key).map(|e| e.centre())
+    }
+
+    /// A parameter written explicitly in the place's body, as the value or range written.
+    pub fn expected(&self, name: &str, key: Option<&str>) -> Option<Expected> {
         self.params
             .get(&(name.to_string(), key.map(str::to_string)))
             .copied()

@@ -43,6 +43,9 @@ pub struct Kidnap {
     pub line: u64,
     /// Frames from that one (counted 1) to the first correct decision; `None` if never.
     pub recovered_after: Option<u64>,
+    /// The same, counting only frames at a place: between places no decision can be right, so
+    /// a robot dropped where it soon leaves a place is not slow to recover for that.
+    pub recovered_after_at_place: Option<u64>,
 }
 
 /// Accuracy against ground truth.
@@ -125,8 +128,8 @@ pub struct Tally {
     last_pose: Option<[f64; 3]>,
     kidnaps: u64,
     kidnap_events: Vec<Kidnap>,
-    /// Frames since the current unrecovered kidnap, if any.
-    pending_kidnap: Option<(u64, u64)>,
+    /// The current unrecovered kidnap, if any: its line, frames since, frames at a place since.
+    pending_kidnap: Option<(u64, u64, u64)>,
     recovered_sum: u64,
     recovered_count: u64,
     recovered_max: Option<u64>,
@@ -218,8 +221,9 @@ impl Tally {
                 }
             }
         }
-        if let Some((line, frames)) = self.pending_kidnap {
+        if let Some((line, frames, at_place)) = self.pending_kidnap {
             let frames = frames + 1;
+            let at_place = at_place + u64::from(meta.truth_place.is_some());
             let right = matches!((meta.truth_place, chosen), (Some(t), Some((p, _))) if t == p);
             if right {
                 self.recovered_sum += frames;
@@ -227,10 +231,11 @@ impl Tally {
                 self.recovered_max = Some(self.recovered_max.map_or(frames, |m| m.max(frames)));
                 if let Some(k) = self.kidnap_events.iter_mut().rev().find(|k| k.line == line) {
                     k.recovered_after = Some(frames);
+                    k.recovered_after_at_place = Some(at_place);
                 }
                 self.pending_kidnap = None;
             } else {
-                self.pending_kidnap = Some((line, frames));
+                self.pending_kidnap = Some((line, frames, at_place));
             }
         }
     }
@@ -248,9 +253,10 @@ impl Tally {
                     self.kidnap_events.push(Kidnap {
                         line: meta.line,
                         recovered_after: None,
+                        recovered_after_at_place: None,
                     });
                 }
-                self.pending_kidnap = Some((meta.line, 0));
+                self.pending_kidnap = Some((meta.line, 0, 0));
             }
         }
         self.last_pose = Some(pose);
@@ -377,6 +383,15 @@ impl Summary {
                 t.max_recovery_frames
                     .map_or("never".to_string(), |m| m.to_string())
             )?;
+            let each: Vec<String> = t
+                .kidnap_events
+                .iter()
+                .map(|k| match (k.recovered_after, k.recovered_after_at_place) {
+                    (Some(f), Some(a)) => format!("line {}: {f} ({a} at a place)", k.line),
+                    _ => format!("line {}: never", k.line),
+                })
+                .collect();
+            writeln!(out, "  frames to recover: {}", each.join(", "))?;
         }
         write!(out, "confusion (rows truth, columns decided):\n{:>6}", "")?;
         for c in &t.confusion_columns {
@@ -391,5 +406,55 @@ impl Summary {
             writeln!(out)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::logic::Disoriented;
+
+    fn meta(line: u64, place: Option<usize>, x: f64) -> FrameMeta {
+        FrameMeta {
+            line,
+            truth_known: true,
+            truth_place: place,
+            truth_pose: Some([x, 0.0, 0.0]),
+            ..FrameMeta::default()
+        }
+    }
+
+    #[test]
+    fn kidnap_recovery_counts_all_frames_and_frames_at_a_place() {
+        let mut t = Tally::new(vec!["A".into(), "B".into()], true);
+        let lost = Decision::Disoriented(Disoriented::NothingAboveThreshold {
+            best: 0,
+            support: 0.0,
+        });
+        let at = |p| Decision::Place {
+            place: p,
+            necessity: 0.8,
+        };
+        // At A, then teleported 5 m with no odometry: line 2 is the kidnap. Lines 2–3 at B
+        // (disoriented, then wrongly A), lines 4–5 between places, line 6 at B and right:
+        // 5 frames, 3 of them at a place.
+        t.record(at(0), &meta(1, Some(0), 0.0));
+        t.record(lost, &meta(2, Some(1), 5.0));
+        t.record(at(0), &meta(3, Some(1), 5.1));
+        t.record(lost, &meta(4, None, 5.2));
+        t.record(lost, &meta(5, None, 5.3));
+        t.record(at(1), &meta(6, Some(1), 5.4));
+        let s = t.finish();
+        let truth = s.truth.expect("truth was given");
+        assert_eq!(truth.kidnaps, 1);
+        assert_eq!(
+            truth.kidnap_events,
+            vec![Kidnap {
+                line: 2,
+                recovered_after: Some(5),
+                recovered_after_at_place: Some(3),
+            }]
+        );
+        assert_eq!(truth.max_recovery_frames, Some(5));
     }
 }

@@ -67,6 +67,9 @@ pub struct SimConfig {
     pub range_noise: f64,
     /// Frames (0-based) at which the robot is kidnapped.
     pub kidnap_at: Vec<u64>,
+    /// Emit the robot's heading (a compass), with this noise (standard deviation, degrees);
+    /// `None` emits none. Off by default, so streams made without it are unchanged.
+    pub heading_noise: Option<f64>,
 }
 
 impl Default for SimConfig {
@@ -84,6 +87,7 @@ impl Default for SimConfig {
             angle_noise: 5.0,
             range_noise: 0.05,
             kidnap_at: Vec::new(),
+            heading_noise: None,
         }
     }
 }
@@ -541,6 +545,11 @@ impl Simulator {
             dy: r3(0.01 * self.rng.normal()),
             dtheta: r3(dtheta + self.rng.normal()),
         };
+        // Drawn only when asked for, so that streams made without it keep their bytes.
+        let heading = self
+            .cfg
+            .heading_noise
+            .map(|sd| r3(wrap180(self.pose.2 + sd * self.rng.normal())));
         let mut percepts = Vec::new();
         let place = self.truth_place();
         match place {
@@ -551,6 +560,7 @@ impl Simulator {
             version: Some(FORMAT_VERSION),
             t: Some(r3(k as f64 * 0.1)),
             odometry: Some(odometry),
+            heading,
             percepts,
             truth: Some(Truth {
                 place: place.map(|p| self.map.places()[p].name.clone()),

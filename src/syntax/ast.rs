@@ -380,14 +380,17 @@ pub enum Feature {
         /// The whole feature.
         span: Span,
     },
-    /// `param A = 215;` or `param range(Yellow) = 2.5;`
+    /// `param A = 215;`, `param range(Yellow) = 2.5;`, or a range of equally expected values,
+    /// `param free(North) = 0.4 .. 1.9;`
     Param {
         /// Parameter name.
         name: Ident,
         /// Key constant for keyed parameters.
         key: Option<Ident>,
-        /// Value.
+        /// Value (the lower end of a range).
         value: Spanned<f64>,
+        /// The upper end of a range, if one is written.
+        upper: Option<Spanned<f64>>,
         /// The whole feature.
         span: Span,
     },

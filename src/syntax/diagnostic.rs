@@ -291,6 +291,14 @@ pub enum DiagnosticKind {
         /// The value.
         value: f64,
     },
+    /// A parameter range whose ends are in the wrong order.
+    #[error("parameter range is empty ({low} > {high})")]
+    EmptyRange {
+        /// The lower end as written.
+        low: f64,
+        /// The upper end as written.
+        high: f64,
+    },
     /// A box extent whose corners are in the wrong order.
     #[error("box extent has its corners swapped ({low} > {high})")]
     InvalidBox {
@@ -438,6 +446,7 @@ impl DiagnosticKind {
             K::BadFieldValue { .. } => "core, slope and period are non-negative; 0 ≤ bias ≤ height ≤ 1",
             K::NegativeLength { .. } => "lengths and radii are distances in metres",
             K::InvalidBox { .. } => "write the box as (x0, y0, x1, y1) with x0 ≤ x1 and y0 ≤ y1",
+            K::EmptyRange { .. } => "write the range low end first: `param W = 1.5 .. 2.5;`",
             K::ExpectWithoutSimilarity { .. } => "add `~ similarity_name` before the `;`",
             K::SchemaArity { .. } => "give every tuple one value per variable of the `for all` clause",
             K::BadHead { .. } => "declare the head with `predicate name(…);`; percepts come from sensors only",

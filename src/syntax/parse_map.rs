@@ -243,10 +243,12 @@ impl Builder<'_> {
             .filter(|x| x.as_rule() == R::ident)
             .map(|x| self.ident(x))
             .collect();
-        let degree = children
+        let numbers: Vec<Spanned<f64>> = children
             .iter()
-            .find(|x| x.as_rule() == R::number)
-            .map(|n| self.number(n));
+            .filter(|x| x.as_rule() == R::number)
+            .map(|n| self.number(n))
+            .collect();
+        let degree = numbers.first().cloned();
         match kind {
             R::wall => Some(Feature::Wall {
                 dir: idents.first()?.clone(),
@@ -263,6 +265,7 @@ impl Builder<'_> {
                 name: idents.first()?.clone(),
                 key: idents.get(1).cloned(),
                 value: degree?,
+                upper: numbers.get(1).cloned(),
                 span,
             }),
             _ => {

@@ -1,0 +1,609 @@
+//! Metric tracking of place possibilities: paper 000's "blur, then intersect" cycle on a
+//! possibility grid over the map's place extents, with each frame's place evidence painted onto
+//! the cells of each place. The graph tracker ([`super::tracker`]) carries one possibility per
+//! place, so it forgets *where* in a place the robot was; along a ring of look-alike corridors
+//! that is what tells them apart. This tracker keeps it, at the price of a grid.
+//!
+//! # The model
+//! Cells of side `cell_size` cover the extents' bounding box grown by `margin`; each cell
+//! belongs to the first place (in map order, as ground truth does) whose extent holds its
+//! centre, or to none ("between places"). The plane `g` starts at 1 everywhere (total
+//! ignorance). Each frame, with `e_j = Π'_j` the engine's normalised possibility of place `j`
+//! and `α_j` its support:
+//!
+//! ```text
+//! predict   g ← shift(g, D)                D = Rot(θ_prev)·(dx, dy): the odometry increment
+//!                                          turned into the map frame by the previous heading;
+//!                                          whole cells, the remainder carried to the next frame
+//!           g ← g ⊕ B(f)                   sup-min dilation by the square element of flank
+//!                                          f = flank + flank_per_metre·|D| (accumulated until it
+//!                                          reaches a cell), B(u, v) = max(0, 1 − max(|u|,|v|)/f)
+//! evidence  c(x) = g(x) · max(b, e(x))     e(x) = e_j in place j's cells, and
+//!                                          max(b, 1 − max_j α_j) between places
+//! normalise h = max c,   g = max(c / h, floor)          (g = 1 everywhere if h = 0)
+//! places    π_j = max_{x ∈ P_j} g(x),   π_∅ = max over the cells between places
+//!           N_j = 1 − max(max_{k≠j} π_k, π_∅),   Inc = 1 − h
+//! ```
+//!
+//! `b` is the tracker's bias (as in the graph tracker: evidence never rules a cell out
+//! entirely) and `floor` paper 000's bias on the belief itself, which lets a kidnapped robot
+//! relocalize when the evidence keeps contradicting the belief. Being between places is a
+//! world of its own: a belief that sits in a doorway between two extents makes neither place
+//! necessary. A frame with no heading (and none earlier to carry over) cannot be shifted; it is
+//! blurred by the whole distance moved instead (paper 000's blur without odometry direction).
+//! The decision is the rule file's (threshold, margin) on `N` and `Inc`, except that, as for the
+//! graph tracker, no place is chosen in a frame in which no place has support ≥ `min_support`.
+//!
+//! # Complexity
+//! `O(cells)` per step: one shift, at most one dilation, one pass for the evidence and one for
+//! the places. The plane is stored as runs of cells of one place (or none) along the rows, so
+//! the evidence and the places' maxima are plain loops over slices. The dilation is by levels
+//! for a flank of a few cells (`out = max_k min(M_k, B(k))` with `M_k` the running maximum over
+//! offsets `−k..=k`, whole rows at a time: a column neighbour is the next row), and by
+//! [`crate::grid::dilate::dilate_line`]'s `O(n)` deques beyond. All buffers are sized at
+//! construction; [`GridTracker::step`] allocates nothing and cannot panic.
+//!
+//! # Example
+//! ```
+//! use lplace::engine::grid_tracker::{GridTrackConfig, GridTracker};
+//! use lplace::engine::tracker::TrackerConfig;
+//! use lplace::io::record::Odometry;
+//! use lplace::logic::{DecisionParams, PlaceDistribution};
+//! use lplace::map::Map;
+//! use lplace::syntax::parse_map;
+//! // Two boxes in a row along x: A = [0, 2] × [0, 1], B = [2, 4] × [0, 1].
+//! let text = "map m; place A corridor at (1, 0.5) extent box (0, 0, 2, 1); \
+//!             place B corridor at (3, 0.5) extent box (2, 0, 4, 1); path A -- B;";
+//! let map = Map::from_ast(&parse_map(text).unwrap()).unwrap();
+//! let cfg = TrackerConfig { grid: Some(GridTrackConfig::default()), ..TrackerConfig::default() };
+//! let params = DecisionParams { threshold: 0.5, margin: 0.1 };
+//! let mut t = GridTracker::new(&map, params, &cfg);
+//! // Evidence for A, standing still: A is chosen.
+//! let mut ev = PlaceDistribution::new(2);
+//! ev.support = vec![0.8, 0.0];
+//! ev.possibility = vec![1.0, 0.2];
+//! let still = Odometry::default();
+//! assert_eq!(t.step(&ev, still, Some(0.0)).place(), Some(0));
+//! // Drive 2 m east with evidence that both places share: the belief moved with the robot.
+//! ev.support = vec![0.4, 0.4];
+//! ev.possibility = vec![1.0, 1.0];
+//! let east = Odometry { dx: 1.0, dy: 0.0, dtheta: 0.0 };
+//! t.step(&ev, east, Some(0.0));
+//! assert_eq!(t.step(&ev, east, Some(0.0)).place(), Some(1));
+//! ```
+
+use super::tracker::{undecided, unless_unsupported, TrackerConfig};
+use crate::grid::cells::raw_max;
+use crate::grid::dilate::{dilate_line, Profile};
+use crate::io::record::Odometry;
+use crate::logic::{
+    clamp_degree, decide, Decision, DecisionParams, Disoriented, PlaceDistribution,
+};
+use crate::map::{Extent, Map};
+use serde::{Deserialize, Serialize};
+
+/// Parameters of the metric tracker (the `grid` field of a tracker RON file). Every field is
+/// optional; defaults below.
+///
+/// ```ron
+/// (grid: Some((cell_size: 0.25, margin: 1.0, flank: 0.0, flank_per_metre: 0.1, floor: 0.001)))
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GridTrackConfig {
+    /// Side of a cell, metres (default 0.25). Raised if the map would need more than
+    /// [`MAX_CELLS`] cells.
+    pub cell_size: f64,
+    /// Margin around the extents' bounding box, metres (default 1).
+    pub margin: f64,
+    /// Flank of the motion blur per moving frame, metres (default 0).
+    pub flank: f64,
+    /// Flank of the motion blur per metre moved: the odometry's drift (default 0.1).
+    pub flank_per_metre: f64,
+    /// Least possibility of any cell after normalisation (paper 000's bias; default 0.001).
+    pub floor: f64,
+}
+
+impl Default for GridTrackConfig {
+    fn default() -> Self {
+        GridTrackConfig {
+            cell_size: 0.25,
+            margin: 1.0,
+            flank: 0.0,
+            flank_per_metre: 0.1,
+            floor: 0.001,
+        }
+    }
+}
+
+/// Most cells a tracker grid may have (16 M: 64 MB of `f32`); a larger map gets coarser cells.
+pub const MAX_CELLS: usize = 1 << 24;
+
+impl GridTrackConfig {
+    /// Checks every field's range; the error names the field, its value and the range.
+    pub fn validate(&self) -> Result<(), (&'static str, f64, &'static str)> {
+        if !(self.cell_size > 0.0 && self.cell_size.is_finite()) {
+            return Err(("grid.cell_size", self.cell_size, "finite, > 0"));
+        }
+        for (field, value) in [
+            ("grid.margin", self.margin),
+            ("grid.flank", self.flank),
+            ("grid.flank_per_metre", self.flank_per_metre),
+        ] {
+            if !(value >= 0.0 && value.is_finite()) {
+                return Err((field, value, "finite, ≥ 0"));
+            }
+        }
+        if !(0.0..=1.0).contains(&self.floor) {
+            return Err(("grid.floor", self.floor, "[0, 1]"));
+        }
+        Ok(())
+    }
+}
+
+/// Longest reach (cells) dilated by levels; longer ones go to the deques of
+/// [`crate::grid::dilate`], whose cost does not grow with the reach.
+const LEVELS: usize = 8;
+
+/// Label of a cell between places.
+const NONE: u32 = u32::MAX;
+
+/// Shifts larger than this many cells empty the grid whatever its size; clamping keeps absurd
+/// (but finite) odometry from overflowing an index.
+const MAX_SHIFT: f64 = 1e7;
+
+/// Carries place possibilities on a metric grid. See the module docs.
+#[derive(Debug, Clone)]
+pub struct GridTracker {
+    cfg: GridTrackConfig,
+    bias: f64,
+    min_support: f64,
+    params: DecisionParams,
+    n: usize,
+    nx: usize,
+    ny: usize,
+    cell: f64,
+    /// Lower-left corner of the grid, metres.
+    origin: (f64, f64),
+    /// The place of each cell, row-major (row = y), or [`NONE`].
+    label: Vec<u32>,
+    /// Maximal runs `(start, end, place)` of cells with one label, in order, covering the plane;
+    /// `place` is `n` between places.
+    runs: Vec<(usize, usize, usize)>,
+    /// Per place (and, last, between places), the evidence factor of its cells.
+    factor: Vec<f32>,
+    /// Per place (and, last, between places), the largest cell after normalisation.
+    top: Vec<f32>,
+    /// Per run, its largest cell after the evidence.
+    run_top: Vec<f32>,
+    /// The running maximum of a dilation by levels.
+    running: Vec<f32>,
+    /// The belief `g`, row-major.
+    g: Vec<f32>,
+    scratch: Vec<f32>,
+    line: Vec<f32>,
+    line_out: Vec<f32>,
+    deque: Vec<u32>,
+    /// Heading of the previous frame, radians.
+    heading: Option<f64>,
+    /// Shift not yet applied (less than half a cell), metres.
+    remainder: (f64, f64),
+    /// Flank not yet applied (less than a cell), metres.
+    pending_flank: f64,
+    /// Per place `max g` scratch for the evidence step (`π_j`), and the between-places one.
+    between: f64,
+    dist: PlaceDistribution,
+    decision: Decision,
+}
+
+/// The bounding box `[x0, y0, x1, y1]` of an extent.
+fn extent_box(pose: (f64, f64), e: Extent) -> [f64; 4] {
+    match e {
+        Extent::Radius(r) => {
+            let r = r.max(0.0);
+            [pose.0 - r, pose.1 - r, pose.0 + r, pose.1 + r]
+        }
+        Extent::Box { x0, y0, x1, y1 } => [x0.min(x1), y0.min(y1), x0.max(x1), y0.max(y1)],
+    }
+}
+
+impl GridTracker {
+    /// A tracker over `map`'s place extents with `cfg.grid` (defaults if `None`), `cfg.bias`
+    /// and `cfg.min_support`, deciding with `params`. Non-finite extents are left out of the
+    /// bounds.
+    pub fn new(map: &Map, params: DecisionParams, cfg: &TrackerConfig) -> GridTracker {
+        let grid = cfg.grid.unwrap_or_default();
+        let places = map.places();
+        let n = places.len();
+        let mut lo = (f64::INFINITY, f64::INFINITY);
+        let mut hi = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+        for p in places {
+            let b = extent_box((p.pose.0, p.pose.1), p.extent);
+            if b.iter().all(|v| v.is_finite()) {
+                lo = (lo.0.min(b[0]), lo.1.min(b[1]));
+                hi = (hi.0.max(b[2]), hi.1.max(b[3]));
+            }
+        }
+        if !(lo.0 <= hi.0 && lo.1 <= hi.1) {
+            lo = (0.0, 0.0);
+            hi = (0.0, 0.0);
+        }
+        let margin = if grid.margin.is_finite() {
+            grid.margin.max(0.0)
+        } else {
+            0.0
+        };
+        let (w, h) = (hi.0 - lo.0 + 2.0 * margin, hi.1 - lo.1 + 2.0 * margin);
+        let mut cell = if grid.cell_size > 0.0 && grid.cell_size.is_finite() {
+            grid.cell_size
+        } else {
+            GridTrackConfig::default().cell_size
+        };
+        let fits = |c: f64| (w / c).ceil().max(1.0) * (h / c).ceil().max(1.0) <= MAX_CELLS as f64;
+        while !fits(cell) {
+            cell *= 2.0;
+        }
+        let nx = ((w / cell).ceil() as usize).max(1);
+        let ny = ((h / cell).ceil() as usize).max(1);
+        let origin = (lo.0 - margin, lo.1 - margin);
+        let mut label = vec![NONE; nx * ny];
+        for (r, row) in label.chunks_exact_mut(nx).enumerate() {
+            let y = origin.1 + (r as f64 + 0.5) * cell;
+            for (c, l) in row.iter_mut().enumerate() {
+                let x = origin.0 + (c as f64 + 0.5) * cell;
+                if let Some(k) = places.iter().position(|p| p.contains(x, y)) {
+                    *l = k as u32;
+                }
+            }
+        }
+        let mut runs = Vec::new();
+        let mut start = 0;
+        for k in 1..=label.len() {
+            if k == label.len() || label[k] != label[start] {
+                let l = label[start];
+                runs.push((start, k, if l == NONE { n } else { l as usize }));
+                start = k;
+            }
+        }
+        let n_runs = runs.len();
+        let longest = nx.max(ny);
+        let mut t = GridTracker {
+            cfg: grid,
+            bias: clamp_degree(cfg.bias),
+            min_support: cfg.min_support,
+            params,
+            n,
+            nx,
+            ny,
+            cell,
+            origin,
+            label,
+            runs,
+            factor: vec![1.0; n + 1],
+            top: vec![1.0; n + 1],
+            run_top: vec![0.0; n_runs],
+            running: vec![0.0; nx * ny],
+            g: vec![1.0; nx * ny],
+            scratch: vec![0.0; nx * ny],
+            line: vec![0.0; longest],
+            line_out: vec![0.0; longest],
+            deque: vec![0; longest],
+            heading: None,
+            remainder: (0.0, 0.0),
+            pending_flank: 0.0,
+            between: 1.0,
+            dist: PlaceDistribution::new(n),
+            decision: Decision::Disoriented(Disoriented::NoPlaces),
+        };
+        t.reset();
+        t
+    }
+
+    /// Forgets everything: every cell equally possible.
+    pub fn reset(&mut self) {
+        self.g.fill(1.0);
+        self.heading = None;
+        self.remainder = (0.0, 0.0);
+        self.pending_flank = 0.0;
+        self.between = 1.0;
+        self.dist = PlaceDistribution::new(self.n);
+        self.decision = undecided(self.n);
+    }
+
+    /// Grid size in cells `(nx, ny)`, the cell side and the lower-left corner (metres).
+    pub fn geometry(&self) -> (usize, usize, f64, (f64, f64)) {
+        (self.nx, self.ny, self.cell, self.origin)
+    }
+
+    /// The belief plane, row-major from the lower-left corner (row = y).
+    pub fn belief(&self) -> &[f32] {
+        &self.g
+    }
+
+    /// The place of each cell (row-major), `None` between places.
+    pub fn cell_place(&self, col: usize, row: usize) -> Option<usize> {
+        let l = *self
+            .label
+            .get(row.checked_mul(self.nx)?.checked_add(col)?)?;
+        (l != NONE && col < self.nx).then_some(l as usize)
+    }
+
+    /// The tracked distribution of the last step (support and exclusion are the evidence's;
+    /// `possibility` is `π_j` of the module docs).
+    pub fn distribution(&self) -> &PlaceDistribution {
+        &self.dist
+    }
+
+    /// The possibility of being between places after the last step (`π_∅`).
+    pub fn between_places(&self) -> f64 {
+        self.between
+    }
+
+    /// The decision of the last step.
+    pub fn decision(&self) -> Decision {
+        self.decision
+    }
+
+    /// One frame: predicts by the odometry increment (turned into the map frame by the
+    /// heading), intersects with `evidence` and decides. `heading` is the frame's heading in
+    /// the map frame, degrees, if known. Allocates nothing.
+    pub fn step(
+        &mut self,
+        evidence: &PlaceDistribution,
+        odometry: Odometry,
+        heading: Option<f64>,
+    ) -> Decision {
+        self.predict(odometry, heading);
+        self.intersect(evidence);
+        self.decision
+    }
+
+    fn predict(&mut self, o: Odometry, heading: Option<f64>) {
+        let finite = |v: f64| if v.is_finite() { v } else { 0.0 };
+        let (dx, dy) = (finite(o.dx), finite(o.dy));
+        let dtheta = finite(o.dtheta).to_radians();
+        let now = heading.filter(|h| h.is_finite()).map(f64::to_radians);
+        let start = self.heading.or(now.map(|h| h - dtheta));
+        // A missing heading is carried over by the odometry's turn.
+        self.heading = now.or(self
+            .heading
+            .map(|h| (h + dtheta).rem_euclid(std::f64::consts::TAU)));
+        let ds = dx.hypot(dy);
+        // `ds` is finite (its parts are): only a real move predicts.
+        if ds <= 0.0 {
+            return;
+        }
+        let mut flank = self.cfg.flank + self.cfg.flank_per_metre * ds;
+        match start {
+            Some(th) => {
+                let (s, c) = th.sin_cos();
+                let rx = self.remainder.0 + c * dx - s * dy;
+                let ry = self.remainder.1 + s * dx + c * dy;
+                let cells = |r: f64| (r / self.cell).round().clamp(-MAX_SHIFT, MAX_SHIFT);
+                let (sx, sy) = (cells(rx), cells(ry));
+                self.remainder = (rx - sx * self.cell, ry - sy * self.cell);
+                if !(self.remainder.0.abs() <= self.cell && self.remainder.1.abs() <= self.cell) {
+                    self.remainder = (0.0, 0.0);
+                }
+                self.shift(sx as i64, sy as i64);
+            }
+            // No direction: blur by the whole distance instead.
+            None => flank += ds,
+        }
+        self.pending_flank += flank;
+        if self.pending_flank >= self.cell {
+            let p = Profile {
+                core: 0.0,
+                flank: (self.pending_flank / self.cell) as f32,
+            };
+            self.dilate(p);
+            self.pending_flank = 0.0;
+        }
+    }
+
+    /// Moves the plane by `(sx, sy)` cells; cells entering from outside get 0 (the floor lifts
+    /// them in the evidence step).
+    fn shift(&mut self, sx: i64, sy: i64) {
+        if sx == 0 && sy == 0 {
+            return;
+        }
+        let (nx, ny) = (self.nx as i64, self.ny as i64);
+        self.scratch.fill(0.0);
+        if sx.abs() < nx && sy.abs() < ny {
+            let len = (nx - sx.abs()) as usize;
+            let (src_c, dst_c) = if sx >= 0 { (0, sx) } else { (-sx, 0) };
+            for r in 0..ny {
+                let t = r + sy;
+                if t < 0 || t >= ny {
+                    continue;
+                }
+                let src = (r * nx + src_c) as usize;
+                let dst = (t * nx + dst_c) as usize;
+                self.scratch[dst..dst + len].copy_from_slice(&self.g[src..src + len]);
+            }
+        }
+        std::mem::swap(&mut self.g, &mut self.scratch);
+    }
+
+    /// Sup-min dilation by the square element with profile `p` along both axes: the element
+    /// `min(B(u), B(v)) = B(max(|u|, |v|))` is the sup-min sum of a row and a column element.
+    fn dilate(&mut self, p: Profile) {
+        for v in self.g.iter_mut() {
+            *v = v.clamp(0.0, 1.0);
+        }
+        // Offsets k with B(k) > 0: k < flank (core 0).
+        let reach = if p.flank > 0.0 {
+            (p.flank.ceil() as usize).saturating_sub(1)
+        } else {
+            0
+        };
+        if reach == 0 {
+            return;
+        }
+        if reach <= LEVELS {
+            self.levels(p, reach, true);
+            self.levels(p, reach, false);
+            return;
+        }
+        let nx = self.nx;
+        for row in self.g.chunks_exact_mut(nx) {
+            let out = &mut self.line_out[..nx];
+            dilate_line(row, out, p, &mut self.deque);
+            row.copy_from_slice(out);
+        }
+        let ny = self.ny;
+        for c in 0..nx {
+            for (r, v) in self.line[..ny].iter_mut().enumerate() {
+                *v = self.g[r * nx + c];
+            }
+            dilate_line(
+                &self.line[..ny],
+                &mut self.line_out[..ny],
+                p,
+                &mut self.deque,
+            );
+            for (r, &v) in self.line_out[..ny].iter().enumerate() {
+                self.g[r * nx + c] = v;
+            }
+        }
+    }
+
+    /// One 1-D pass by levels along rows (`along_rows`) or columns, reaching `reach` cells:
+    /// with `g₀` the input, `M_k = max(M_{k−1}, g₀(x − k), g₀(x + k))` and
+    /// `out = max_k min(M_k, B(k))`, each step element-wise over whole slices. Samples past the
+    /// grid's edge count as 0, so along rows a neighbour stays in its row.
+    fn levels(&mut self, p: Profile, reach: usize, along_rows: bool) {
+        let nx = self.nx;
+        let len = self.g.len();
+        // `scratch` = g₀, `running` = M_k, `g` = the output (M₀ = g₀, B(0) = 1).
+        self.scratch.copy_from_slice(&self.g);
+        self.running.copy_from_slice(&self.g);
+        for k in 1..=reach {
+            let b = p.at(k as f32);
+            if along_rows {
+                if k >= nx {
+                    break;
+                }
+                let rows = self
+                    .running
+                    .chunks_exact_mut(nx)
+                    .zip(self.scratch.chunks_exact(nx));
+                for (m, src) in rows {
+                    for (mv, &s) in m[k..].iter_mut().zip(&src[..nx - k]) {
+                        *mv = mv.max(s);
+                    }
+                    for (mv, &s) in m[..nx - k].iter_mut().zip(&src[k..]) {
+                        *mv = mv.max(s);
+                    }
+                }
+            } else {
+                let off = k * nx;
+                if off >= len {
+                    break;
+                }
+                let (m, src) = (&mut self.running, &self.scratch);
+                for (mv, &s) in m[off..].iter_mut().zip(&src[..len - off]) {
+                    *mv = mv.max(s);
+                }
+                for (mv, &s) in m[..len - off].iter_mut().zip(&src[off..]) {
+                    *mv = mv.max(s);
+                }
+            }
+            for (o, &mv) in self.g.iter_mut().zip(&self.running) {
+                *o = o.max(mv.min(b));
+            }
+        }
+    }
+
+    fn intersect(&mut self, evidence: &PlaceDistribution) {
+        let n = self.n;
+        let b = self.bias as f32;
+        let get =
+            |v: &[f64], j: usize, missing: f64| clamp_degree(v.get(j).copied().unwrap_or(missing));
+        let mut max_support = 0.0f64;
+        for j in 0..n {
+            let a = get(&evidence.support, j, 0.0);
+            max_support = max_support.max(a);
+            self.dist.support[j] = a;
+            self.dist.exclusion[j] = get(&evidence.exclusion, j, 0.0);
+            // The evidence factor of place j's cells, kept in `possibility` until the places
+            // pass below overwrites it.
+            self.dist.possibility[j] = get(&evidence.possibility, j, 1.0).max(self.bias);
+        }
+        for (f, &e) in self.factor.iter_mut().zip(&self.dist.possibility) {
+            *f = e as f32;
+        }
+        if let Some(f) = self.factor.get_mut(n) {
+            *f = ((1.0 - max_support).max(self.bias)) as f32;
+        }
+        // Multiply each run by its factor and keep the run's largest value: normalising is
+        // monotone, so a run's largest value afterwards is the normalised one of this, and the
+        // plane needs no third pass. Maxima as selects (`raw_max`), not `f32::max`, whose NaN
+        // rule keeps the loops from vectorising (no cell is NaN: every factor is finite).
+        let mut h = 0.0f32;
+        for (top, &(start, end, l)) in self.run_top.iter_mut().zip(&self.runs) {
+            let f = self.factor.get(l).copied().unwrap_or(b);
+            let run = &mut self.g[start..end];
+            for v in run.iter_mut() {
+                *v *= f;
+            }
+            *top = raw_max(run);
+            h = if *top > h { *top } else { h };
+        }
+        let floor = self.cfg.floor as f32;
+        let normal = h > 0.0 && h.is_finite();
+        let inv = if normal { 1.0 / h } else { 0.0 };
+        let norm = |v: f32| {
+            let x = v * inv;
+            let x = if x > floor { x } else { floor };
+            if x < 1.0 {
+                x
+            } else {
+                1.0
+            }
+        };
+        if normal {
+            for v in &mut self.g {
+                *v = norm(*v);
+            }
+        } else {
+            self.g.fill(1.0);
+        }
+        self.top.fill(0.0);
+        for (&m, &(_, _, l)) in self.run_top.iter().zip(&self.runs) {
+            let m = if normal { norm(m) } else { 1.0 };
+            if let Some(t) = self.top.get_mut(l) {
+                *t = if m > *t { m } else { *t };
+            }
+        }
+        for (p, &t) in self.dist.possibility_raw.iter_mut().zip(&self.top) {
+            *p = f64::from(t);
+        }
+        self.between = f64::from(self.top.get(n).copied().unwrap_or(0.0));
+        self.dist
+            .possibility
+            .copy_from_slice(&self.dist.possibility_raw);
+        // N_j = 1 − max(max_{k≠j} π_k, π_∅): the two largest π suffice.
+        let (mut first, mut second, mut best) = (self.between, self.between, usize::MAX);
+        for (k, &p) in self.dist.possibility.iter().enumerate() {
+            if p > first {
+                second = first;
+                first = p;
+                best = k;
+            } else if p > second {
+                second = p;
+            }
+        }
+        for (k, nk) in self.dist.necessity.iter_mut().enumerate() {
+            let other = if k == best { second } else { first };
+            *nk = 1.0 - other;
+        }
+        let hd = f64::from(h);
+        self.dist.height = if hd.is_finite() { hd.min(1.0) } else { 0.0 };
+        self.dist.inconsistency = 1.0 - self.dist.height;
+        self.decision = decide(&self.dist, self.params);
+        self.decision = unless_unsupported(self.decision, max_support, self.min_support, |k| {
+            get(&evidence.support, k, 0.0)
+        });
+    }
+}

@@ -1,0 +1,382 @@
+//! The metric place tracker (`engine::grid_tracker`): hand-worked frames on small maps (carried
+//! by odometry, relocalized after a kidnap, held back between places, blurred without a
+//! heading), and a brute-force reference of the module docs' formulas — per-cell loops, the
+//! dilation as an explicit sup-min over the square element — that it must match on random maps
+//! and frames.
+
+use lplace::engine::grid_tracker::{GridTrackConfig, GridTracker};
+use lplace::engine::tracker::TrackerConfig;
+use lplace::io::record::Odometry;
+use lplace::logic::{clamp_degree, Decision, DecisionParams, PlaceDistribution};
+use lplace::map::Map;
+use lplace::syntax::parse_map;
+use proptest::prelude::*;
+
+fn map(text: &str) -> Map {
+    Map::from_ast(&parse_map(text).expect("map parses")).expect("map builds")
+}
+
+/// Two boxes in a row: A = [0, 2] × [0, 1], B = [2, 4] × [0, 1].
+fn row_of_two() -> Map {
+    map("place A corridor at (1, 0.5) extent box (0, 0, 2, 1);
+         place B corridor at (3, 0.5) extent box (2, 0, 4, 1);
+         path A -- B;")
+}
+
+/// Cells of 0.5 m and no margin, so that the grid is exactly the boxes; no blur unless asked.
+fn config(flank_per_metre: f64) -> TrackerConfig {
+    TrackerConfig {
+        bias: 0.05,
+        min_support: 0.2,
+        grid: Some(GridTrackConfig {
+            cell_size: 0.5,
+            margin: 0.0,
+            flank: 0.0,
+            flank_per_metre,
+            floor: 0.001,
+        }),
+        ..TrackerConfig::default()
+    }
+}
+
+const PARAMS: DecisionParams = DecisionParams {
+    threshold: 0.5,
+    margin: 0.1,
+};
+
+fn evidence(support: &[f64], possibility: &[f64]) -> PlaceDistribution {
+    let mut d = PlaceDistribution::new(support.len());
+    d.support = support.to_vec();
+    d.possibility = possibility.to_vec();
+    d
+}
+
+fn east(dx: f64) -> Odometry {
+    Odometry {
+        dx,
+        dy: 0.0,
+        dtheta: 0.0,
+    }
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() < 1e-6
+}
+
+#[test]
+fn the_belief_moves_with_the_robot() {
+    let m = row_of_two();
+    let mut t = GridTracker::new(&m, PARAMS, &config(0.0));
+    assert_eq!(t.geometry().0, 8, "8 columns of 0.5 m over x ∈ [0, 4]");
+    // Frame 1, evidence for A: A's cells × 1, B's × 0.2; h = 1. π_A = 1, π_B = 0.2, nothing
+    // between places: N_A = 1 − 0.2 = 0.8 → A.
+    let d = t.step(&evidence(&[0.8, 0.0], &[1.0, 0.2]), east(0.0), Some(0.0));
+    assert_eq!(d.place(), Some(0));
+    let dist = t.distribution();
+    assert!(close(dist.possibility[1], 0.2) && close(dist.necessity[0], 0.8));
+    // Frame 2, 1 m east (2 columns), evidence both places share: columns 2–5 hold A's old 1,
+    // 6–7 B's old 0.2, 0–1 entered empty and are floored. π_A = π_B = 1: N = 0, disoriented.
+    let shared = evidence(&[0.4, 0.4], &[1.0, 1.0]);
+    let d = t.step(&shared, east(1.0), Some(0.0));
+    assert!(matches!(d, Decision::Disoriented(_)), "{d:?}");
+    assert!(close(t.distribution().necessity[1], 0.0));
+    // Frame 3, 1 m further: columns 4–7 hold 1, columns 2–3 the floor 0.001: π_A = 0.001,
+    // N_B = 0.999 → B.
+    let d = t.step(&shared, east(1.0), Some(0.0));
+    assert_eq!(d.place(), Some(1));
+    assert!(close(t.distribution().possibility[0], 0.001));
+    assert!(close(t.distribution().necessity[1], 0.999));
+}
+
+#[test]
+fn a_kidnapped_robot_relocalizes_through_the_floor() {
+    let m = row_of_two();
+    let mut t = GridTracker::new(&m, PARAMS, &config(0.0));
+    // Long evidence for A: A = 1, B at the floor 0.001 (0.2 each frame, floored).
+    for _ in 0..20 {
+        t.step(&evidence(&[0.8, 0.0], &[1.0, 0.2]), east(0.0), Some(0.0));
+    }
+    assert!(close(t.distribution().possibility[1], 0.001));
+    // Now the evidence says B: A's cells × 0.2, B's × 1. With B = x < 0.2 the height is A's 0.2
+    // (Inc = 0.8), so B grows fivefold a frame: 0.005 and 0.025 (N_A = 1 − x clears Inc by more
+    // than the 0.1 margin: A), 0.125 (N_A − Inc = 0.075: disoriented), 0.625 (N_A = 0.375:
+    // disoriented); then B's 0.625 is the height: A = 0.2/0.625 = 0.32, B = 1, N_B = 0.68,
+    // Inc = 0.375 → B.
+    let kidnapped = evidence(&[0.0, 0.8], &[0.2, 1.0]);
+    let mut got = Vec::new();
+    for _ in 0..5 {
+        got.push(t.step(&kidnapped, east(0.0), Some(0.0)).place());
+    }
+    assert_eq!(got, vec![Some(0), Some(0), None, None, Some(1)]);
+    assert!(close(t.distribution().possibility[0], 0.32));
+    assert!(close(t.distribution().necessity[1], 0.68));
+}
+
+#[test]
+fn a_belief_between_places_makes_no_place_necessary() {
+    // A = [0, 1] × [0, 1], B = [3, 4] × [0, 1]: the columns over (1, 3) are between places.
+    let m = map("place A corner at (0.5, 0.5) extent box (0, 0, 1, 1);
+                 place B corner at (3.5, 0.5) extent box (3, 0, 4, 1);");
+    let mut t = GridTracker::new(&m, PARAMS, &config(0.0));
+    assert_eq!(t.cell_place(0, 0), Some(0));
+    assert_eq!(t.cell_place(3, 0), None);
+    assert_eq!(t.cell_place(7, 0), Some(1));
+    // No evidence at all: every cell keeps 1, π_∅ = 1, so N = 0 everywhere.
+    t.step(&evidence(&[0.0, 0.0], &[1.0, 1.0]), east(0.0), Some(0.0));
+    assert!(close(t.between_places(), 1.0));
+    assert!(close(t.distribution().necessity[0], 0.0));
+    // Evidence for A (support 0.9): A's cells × 1, B's × 0.1, the cells between × max(b,
+    // 1 − 0.9) = 0.1. N_A = 1 − max(0.1, 0.1) = 0.9.
+    let d = t.step(&evidence(&[0.9, 0.0], &[1.0, 0.1]), east(0.0), Some(0.0));
+    assert_eq!(d.place(), Some(0));
+    assert!(close(t.between_places(), 0.1));
+    assert!(close(t.distribution().necessity[0], 0.9));
+    // Weaker evidence for A (support 0.3): the cells between keep 1 − 0.3 = 0.7, B's 0.1, so
+    // N_A = 1 − 0.7 = 0.3: the robot may well be between the two, no place is chosen (without
+    // the between-places world N_A would be 1 − 0.1 = 0.9).
+    let mut t = GridTracker::new(&m, PARAMS, &config(0.0));
+    let d = t.step(&evidence(&[0.3, 0.0], &[1.0, 0.1]), east(0.0), Some(0.0));
+    assert!(matches!(d, Decision::Disoriented(_)), "{d:?}");
+    assert!(close(t.between_places(), 0.7));
+    assert!(close(t.distribution().necessity[0], 0.3));
+}
+
+#[test]
+fn without_a_heading_the_belief_is_blurred_not_moved() {
+    let m = row_of_two();
+    let mut t = GridTracker::new(&m, PARAMS, &config(0.0));
+    t.step(&evidence(&[0.8, 0.0], &[1.0, 0.2]), east(0.0), None);
+    // 1 m with no heading known: no shift, a blur of flank 1 m = 2 columns instead. B's first
+    // column (1 column from A's last) gets max(0.2, min(1, 1 − 1/2)) = 0.5, the next ones keep
+    // 0.2 (1 − 2/2 = 0). Shared evidence: π_A = 1, π_B = 0.5.
+    t.step(&evidence(&[0.4, 0.4], &[1.0, 1.0]), east(1.0), None);
+    assert!(close(t.distribution().possibility[0], 1.0));
+    assert!(close(t.distribution().possibility[1], 0.5));
+    let b = t.belief();
+    assert!(close(f64::from(b[4]), 0.5) && close(f64::from(b[5]), 0.2));
+}
+
+#[test]
+fn a_map_without_places_has_a_tracker_that_never_decides() {
+    let m = map("landmark L at (0, 0) id 1;");
+    let mut t = GridTracker::new(&m, PARAMS, &config(0.1));
+    let d = t.step(
+        &PlaceDistribution::new(0),
+        east(f64::NAN),
+        Some(f64::INFINITY),
+    );
+    assert!(matches!(d, Decision::Disoriented(_)));
+}
+
+// ---- brute-force reference ----------------------------------------------------------------
+
+/// The module docs' formulas, cell by cell.
+struct Reference {
+    cfg: GridTrackConfig,
+    bias: f64,
+    nx: usize,
+    ny: usize,
+    cell: f64,
+    label: Vec<Option<usize>>,
+    g: Vec<f64>,
+    heading: Option<f64>,
+    remainder: (f64, f64),
+    pending: f64,
+    possibility: Vec<f64>,
+    necessity: Vec<f64>,
+    between: f64,
+}
+
+impl Reference {
+    fn new(t: &GridTracker, n: usize, cfg: &TrackerConfig) -> Reference {
+        let (nx, ny, cell, _) = t.geometry();
+        Reference {
+            cfg: cfg.grid.unwrap_or_default(),
+            bias: clamp_degree(cfg.bias),
+            nx,
+            ny,
+            cell,
+            label: (0..nx * ny).map(|k| t.cell_place(k % nx, k / nx)).collect(),
+            g: vec![1.0; nx * ny],
+            heading: None,
+            remainder: (0.0, 0.0),
+            pending: 0.0,
+            possibility: vec![0.0; n],
+            necessity: vec![0.0; n],
+            between: 1.0,
+        }
+    }
+
+    fn step(&mut self, ev: &PlaceDistribution, o: Odometry, heading: Option<f64>) {
+        let fin = |v: f64| if v.is_finite() { v } else { 0.0 };
+        let (dx, dy, dth) = (fin(o.dx), fin(o.dy), fin(o.dtheta).to_radians());
+        let now = heading.filter(|h| h.is_finite()).map(f64::to_radians);
+        let start = self.heading.or(now.map(|h| h - dth));
+        self.heading = now.or(self
+            .heading
+            .map(|h| (h + dth).rem_euclid(std::f64::consts::TAU)));
+        let ds = dx.hypot(dy);
+        if ds > 0.0 {
+            let mut flank = self.cfg.flank + self.cfg.flank_per_metre * ds;
+            if let Some(th) = start {
+                let rx = self.remainder.0 + th.cos() * dx - th.sin() * dy;
+                let ry = self.remainder.1 + th.sin() * dx + th.cos() * dy;
+                let sx = (rx / self.cell).round();
+                let sy = (ry / self.cell).round();
+                self.remainder = (rx - sx * self.cell, ry - sy * self.cell);
+                let (nx, ny) = (self.nx as i64, self.ny as i64);
+                let mut moved = vec![0.0; self.g.len()];
+                for r in 0..ny {
+                    for c in 0..nx {
+                        let (sr, sc) = (r - sy as i64, c - sx as i64);
+                        if (0..ny).contains(&sr) && (0..nx).contains(&sc) {
+                            moved[(r * nx + c) as usize] = self.g[(sr * nx + sc) as usize];
+                        }
+                    }
+                }
+                self.g = moved;
+            } else {
+                flank += ds;
+            }
+            self.pending += flank;
+            if self.pending >= self.cell {
+                let f = self.pending / self.cell;
+                let old: Vec<f64> = self.g.iter().map(|v| v.clamp(0.0, 1.0)).collect();
+                for r in 0..self.ny {
+                    for c in 0..self.nx {
+                        let mut best = 0.0f64;
+                        for rr in 0..self.ny {
+                            for cc in 0..self.nx {
+                                let d = (r.abs_diff(rr)).max(c.abs_diff(cc)) as f64;
+                                let b = (1.0 - d / f).max(0.0);
+                                best = best.max(old[rr * self.nx + cc].min(b));
+                            }
+                        }
+                        self.g[r * self.nx + c] = best;
+                    }
+                }
+                self.pending = 0.0;
+            }
+        }
+        let n = self.possibility.len();
+        let get = |v: &[f64], j: usize, miss: f64| clamp_degree(v.get(j).copied().unwrap_or(miss));
+        let max_support = (0..n).map(|j| get(&ev.support, j, 0.0)).fold(0.0, f64::max);
+        let mut h = 0.0f64;
+        for (v, l) in self.g.iter_mut().zip(&self.label) {
+            let e = match l {
+                Some(j) => get(&ev.possibility, *j, 1.0),
+                None => 1.0 - max_support,
+            };
+            *v *= e.max(self.bias);
+            h = h.max(*v);
+        }
+        for v in &mut self.g {
+            *v = if h > 0.0 {
+                (*v / h).max(self.cfg.floor).min(1.0)
+            } else {
+                1.0
+            };
+        }
+        self.possibility.fill(0.0);
+        self.between = 0.0;
+        for (&v, l) in self.g.iter().zip(&self.label) {
+            match l {
+                Some(j) => self.possibility[*j] = self.possibility[*j].max(v),
+                None => self.between = self.between.max(v),
+            }
+        }
+        for j in 0..n {
+            let other = (0..n)
+                .filter(|&k| k != j)
+                .map(|k| self.possibility[k])
+                .fold(self.between, f64::max);
+            self.necessity[j] = 1.0 - other;
+        }
+    }
+}
+
+/// A random map of up to five boxes and discs on a 6 m × 4 m patch.
+fn map_text() -> impl Strategy<Value = String> {
+    let place = (0u32..12, 0u32..8, 1u32..8, 1u32..6, any::<bool>());
+    prop::collection::vec(place, 1..6).prop_map(|places| {
+        let mut text = String::new();
+        for (k, (x, y, w, h, disc)) in places.into_iter().enumerate() {
+            let (x, y, w, h) = (
+                f64::from(x) / 2.0,
+                f64::from(y) / 2.0,
+                f64::from(w) / 2.0,
+                f64::from(h) / 2.0,
+            );
+            if disc {
+                text.push_str(&format!(
+                    "place N{k} room at ({x}, {y}) extent radius {w};\n"
+                ));
+            } else {
+                text.push_str(&format!(
+                    "place N{k} room at ({x}, {y}) extent box ({x}, {y}, {}, {});\n",
+                    x + w,
+                    y + h
+                ));
+            }
+        }
+        text
+    })
+}
+
+fn degree() -> impl Strategy<Value = f64> {
+    prop_oneof![8 => 0.0..=1.0f64, 1 => Just(0.0), 1 => Just(f64::NAN)]
+}
+
+type FrameCase = (Vec<f64>, Vec<f64>, (f64, f64, f64), Option<f64>);
+
+fn frame() -> impl Strategy<Value = FrameCase> {
+    let step =
+        prop_oneof![6 => -0.8..0.8f64, 2 => Just(0.0), 1 => Just(f64::NAN), 1 => -8.0..8.0f64];
+    let heading = prop_oneof![6 => (-360.0..360.0f64).prop_map(Some), 2 => Just(None)];
+    (
+        prop::collection::vec(degree(), 0..7),
+        prop::collection::vec(degree(), 0..7),
+        (step.clone(), step, -60.0..60.0f64),
+        heading,
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    #[test]
+    fn grid_tracker_matches_reference(
+        text in map_text(),
+        flank in 0.0..0.6f64,
+        flank_per_metre in 0.0..0.5f64,
+        floor in prop_oneof![Just(0.0), 0.0..0.05f64],
+        bias in 0.0..0.3f64,
+        frames in prop::collection::vec(frame(), 1..30),
+    ) {
+        let m = map(&text);
+        let n = m.places().len();
+        let cfg = TrackerConfig {
+            bias,
+            grid: Some(GridTrackConfig { cell_size: 0.5, margin: 0.5, flank, flank_per_metre, floor }),
+            ..TrackerConfig::default()
+        };
+        let mut fast = GridTracker::new(&m, PARAMS, &cfg);
+        let mut slow = Reference::new(&fast, n, &cfg);
+        for (k, (support, possibility, (dx, dy, dtheta), heading)) in frames.into_iter().enumerate() {
+            let ev = evidence(&support, &possibility);
+            let odo = Odometry { dx, dy, dtheta };
+            fast.step(&ev, odo, heading);
+            slow.step(&ev, odo, heading);
+            for (i, (&a, &b)) in fast.belief().iter().zip(&slow.g).enumerate() {
+                prop_assert!((f64::from(a) - b).abs() < 1e-4, "frame {k} cell {i}: {a} vs {b}");
+            }
+            let d = fast.distribution();
+            for j in 0..n {
+                prop_assert!((d.possibility[j] - slow.possibility[j]).abs() < 1e-4, "frame {k}: π");
+                prop_assert!((d.necessity[j] - slow.necessity[j]).abs() < 1e-4, "frame {k}: N");
+                prop_assert!((0.0..=1.0).contains(&d.necessity[j]));
+            }
+            prop_assert!((fast.between_places() - slow.between).abs() < 1e-4);
+        }
+    }
+}
