@@ -301,7 +301,7 @@ impl Settle {
     pub(crate) fn cell(&self, raw: f32, b: f32, d: f32) -> (f32, f32, f32) {
         let n = self.scaled(raw);
         let low = n < self.floor;
-        let h = fmax(n, self.floor);
+        let h = fmax(self.floor, n);
         // floor / h is the raised bias floor / n above the floor, and
         // exactly 1 under it (h = floor there): one division and one
         // select serve both cases, and no guard is needed against n = 0.
@@ -311,14 +311,25 @@ impl Settle {
     }
 }
 
-/// `max(a, b)` as a select (`f32::max`'s NaN rule blocks SIMD): `b` when
-/// `a` is NaN.
+/// `max(a, b)` as a select (`f32::max`'s NaN rule blocks SIMD): `a` unless
+/// `b` is larger, so `a` when `b` is NaN. One definition for the grid's
+/// vector passes, whose "same floats" claims rest on its exact rule.
 #[inline(always)]
-fn fmax(a: f32, b: f32) -> f32 {
-    if a > b {
-        a
-    } else {
+pub(crate) fn fmax(a: f32, b: f32) -> f32 {
+    if b > a {
         b
+    } else {
+        a
+    }
+}
+
+/// `min(a, b)` as a select: `a` unless `b` is smaller.
+#[inline(always)]
+pub(crate) fn fmin(a: f32, b: f32) -> f32 {
+    if b < a {
+        b
+    } else {
+        a
     }
 }
 

@@ -126,6 +126,7 @@
 //! assert!((g.possibility(20, 20) - 0.5).abs() < 1e-5); // a square's corner
 //! ```
 
+use super::cells::{fmax, fmin};
 use super::{ElementShape, FuzzyGrid};
 use std::f32::consts::{PI, SQRT_2};
 
@@ -193,26 +194,6 @@ fn levels(p: Profile, cap: usize) -> ([f32; LEVEL_MAX + 1], usize) {
         *v = p.at(i as f32);
     }
     (b, k)
-}
-
-/// `max(a, b)` as a select (`f32::max`'s NaN rule blocks SIMD).
-#[inline(always)]
-fn fmax(a: f32, b: f32) -> f32 {
-    if b > a {
-        b
-    } else {
-        a
-    }
-}
-
-/// `min(a, b)` as a select.
-#[inline(always)]
-fn fmin(a: f32, b: f32) -> f32 {
-    if b < a {
-        b
-    } else {
-        a
-    }
 }
 
 #[inline(always)]

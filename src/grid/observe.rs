@@ -48,7 +48,7 @@
 //! assert!(g.possibility(c, r) < 0.2);
 //! ```
 
-use super::cells::{blend, raw_max};
+use super::cells::{blend, fmax, fmin, raw_max};
 use super::{Combine, FuzzyGrid, GridError, Trapezoid};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::{FRAC_PI_2, PI};
@@ -325,24 +325,6 @@ fn wrap_near(a: f32) -> f32 {
     let a = if a > PI { a - 2.0 * PI } else { a };
     if a <= -PI {
         a + 2.0 * PI
-    } else {
-        a
-    }
-}
-
-#[inline(always)]
-fn fmin(a: f32, b: f32) -> f32 {
-    if b < a {
-        b
-    } else {
-        a
-    }
-}
-
-#[inline(always)]
-fn fmax(a: f32, b: f32) -> f32 {
-    if b > a {
-        b
     } else {
         a
     }
