@@ -51,7 +51,9 @@ pub enum Command {
     /// Run several localizers (fpg, pf:N, rmcl) over the same landmark stream and print one
     /// table: ATE RMSE / median / max, time to first fix, kidnap recovery, time per step.
     ///
-    /// Time per step is wall time (the method's whole run over the frames, divided by the
+    /// ATE is scored from each method's own first fix, over the common window (from the latest
+    /// first fix of the methods in the table on: the same frames for every row) and over all
+    /// frames. Time per step is wall time (the method's whole run over the frames, divided by the
     /// frames), so it depends on the machine and its load. With --sweep, also paper 001's
     /// noisy- and sparse-data runs (seeded). Exit 0, 3 when some stream lines were malformed
     /// (each reported on stderr), 2 for a bad method, flag, map or configuration, 1 when a
