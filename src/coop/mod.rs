@@ -2,7 +2,7 @@
 //! its self grid (a [`crate::grid::FuzzyGrid`]) and its observation `(ρ, φ)` of an object into an
 //! *object grid* by the sup formula ([`object`]), the robots exchange their object grids as one
 //! byte per cell, run-length encoded ([`rle`]), and each fuses what it received by the product
-//! t-norm and takes the centre of gravity ([`fuse`]). [`experiment`] replays MRCLAM with one
+//! t-norm and takes the centre of gravity ([`fuse()`]). [`experiment`] replays MRCLAM with one
 //! robot as the object the others see and scores the fused estimate against each robot's own
 //! and against plain and reliability-weighted averages, as paper 002's tables do.
 //!

@@ -2,7 +2,7 @@
 //! whose variants carry the names and numbers involved), where ([`Span`]), how bad
 //! ([`Severity`]) and what to do about it (a help line per kind). Two renderers: a plain-text one
 //! that needs nothing but the source text (`path:line:col: error: …`, the line, a caret, `help:`),
-//! used by engine-only builds, and — with the `cli` feature — [`Report`], a `miette` diagnostic
+//! used by engine-only builds, and — with the `cli` feature — `Report`, a `miette` diagnostic
 //! that bundles one file with all of its problems.
 //!
 //! Depends only on `syntax::span`; every other stage (parsers, map builder, checker, compiler)

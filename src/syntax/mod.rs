@@ -21,7 +21,7 @@ pub use parse_map::parse_map;
 pub use parse_rules::parse_rules;
 
 /// The pest parsers, exposed for grammar tests (`parses_to!` / `fails_with!`) only. They are not
-/// part of the stable API: build ASTs with [`parse_rules`] and [`parse_map`].
+/// part of the stable API: build ASTs with [`parse_rules()`] and [`parse_map()`].
 #[doc(hidden)]
 pub mod pest_parsers {
     pub use super::grammar::{MapGrammar, MapRule, RulesGrammar, RulesRule};
