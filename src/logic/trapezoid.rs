@@ -67,7 +67,10 @@ impl Trapezoid {
         }
         if let Some(p) = self.period {
             if p > 0.0 {
-                d %= p;
+                // fmod returns d itself below p: skip the library call in the usual case.
+                if d >= p {
+                    d %= p;
+                }
                 d = d.min(p - d);
             }
         }
@@ -148,5 +151,11 @@ mod tests {
         assert_eq!(t.degree(-20.0, 5.0), 0.0);
         // 17° apart: f = 1 − 7/10 = 0.3.
         assert!((t.degree(-12.0, 5.0) - 0.3).abs() < 1e-12);
+        // A turn or more apart: 725° vs 5° is 720° = 0° on the circle; 365° vs 5° exactly one
+        // period (d = p); 1102° vs 5° is 1097° = 17° (after three turns): f = 0.3 again.
+        assert_eq!(t.degree(725.0, 5.0), 1.0);
+        assert_eq!(t.degree(365.0, 5.0), 1.0);
+        assert!((t.degree(1102.0, 5.0) - 0.3).abs() < 1e-9);
+        assert!((t.degree(-1092.0, 5.0) - 0.3).abs() < 1e-9);
     }
 }
