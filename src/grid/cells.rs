@@ -395,11 +395,7 @@ mod tests {
     #[test]
     fn settling_matches_the_reference_bit_for_bit() {
         let same = |x: f32, y: f32| x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan());
-        let mut seed = 77u32;
-        let mut rnd = move || {
-            seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12_345);
-            (seed >> 8) as f32 / (1u32 << 24) as f32
-        };
+        let mut rnd = crate::grid::test_rng(77u32);
         let specials = [
             f32::NAN,
             f32::INFINITY,

@@ -889,11 +889,7 @@ mod tests {
     #[test]
     fn offset_and_deque_passes_agree() {
         use crate::grid::GridConfig;
-        let mut seed = 12345u32;
-        let mut rnd = move || {
-            seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12_345);
-            (seed >> 8) as f32 / (1u32 << 24) as f32
-        };
+        let mut rnd = crate::grid::test_rng(12345u32);
         for (w, h) in [(2.3, 1.7), (0.7, 3.1), (4.1, 0.3)] {
             let mut g = FuzzyGrid::new(GridConfig::default(), [0.0, 0.0, w, h]).unwrap();
             for pattern in 0..3 {
@@ -970,11 +966,7 @@ mod tests {
     #[test]
     fn whole_dilations_match_the_deque_passes() {
         use crate::grid::GridConfig;
-        let mut seed = 4242u32;
-        let mut rnd = move || {
-            seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12_345);
-            (seed >> 8) as f32 / (1u32 << 24) as f32
-        };
+        let mut rnd = crate::grid::test_rng(4242u32);
         for element in [ElementShape::Octagon, ElementShape::Square] {
             for (w, h) in [(12.0, 10.3), (5.3, 4.1), (1.3, 2.9), (2.0, 0.9)] {
                 let cfg = GridConfig {

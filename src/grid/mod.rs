@@ -104,3 +104,13 @@ pub enum GridError {
         reason: &'static str,
     },
 }
+
+/// The unit tests' deterministic source of values in [0, 1): a linear congruential generator
+/// seeded by `seed`, 24 bits per draw (exact in `f32`).
+#[cfg(test)]
+pub(crate) fn test_rng(mut seed: u32) -> impl FnMut() -> f32 {
+    move || {
+        seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+        (seed >> 8) as f32 / (1u32 << 24) as f32
+    }
+}

@@ -948,11 +948,7 @@ mod tests {
     #[test]
     fn bearing_updates_match_scalar_rows() {
         use crate::grid::{Combine, GridConfig};
-        let mut seed = 987_654_321u32;
-        let mut rnd = move || {
-            seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12_345);
-            (seed >> 8) as f32 / (1u32 << 24) as f32
-        };
+        let mut rnd = crate::grid::test_rng(987_654_321u32);
         let same = |x: f32, y: f32| x.to_bits() == y.to_bits();
         for combine in [Combine::Product, Combine::Min] {
             for floor in [1e-8, 0.0, 0.05] {
