@@ -72,7 +72,7 @@
 //! assert_eq!(t.step(&ev, east, Some(0.0)).place(), Some(1));
 //! ```
 
-use super::tracker::{undecided, unless_unsupported, TrackerConfig};
+use super::tracker::{carry_heading, undecided, unless_unsupported, TrackerConfig};
 use crate::grid::cells::raw_max;
 use crate::grid::dilate::{dilate_line, Profile};
 use crate::io::record::Odometry;
@@ -363,11 +363,8 @@ impl GridTracker {
         let (dx, dy) = (finite(o.dx), finite(o.dy));
         let dtheta = finite(o.dtheta).to_radians();
         let now = heading.filter(|h| h.is_finite()).map(f64::to_radians);
-        let start = self.heading.or(now.map(|h| h - dtheta));
-        // A missing heading is carried over by the odometry's turn.
-        self.heading = now.or(self
-            .heading
-            .map(|h| (h + dtheta).rem_euclid(std::f64::consts::TAU)));
+        let (start, next) = carry_heading(self.heading, now, dtheta);
+        self.heading = next;
         let ds = dx.hypot(dy);
         // `ds` is finite (its parts are): only a real move predicts.
         if ds <= 0.0 {

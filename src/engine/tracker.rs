@@ -124,6 +124,29 @@ impl PlaceTracker {
 }
 
 /// A tracker's decision before any frame: disoriented (no place at all if the map has none).
+/// How a frame carries the heading over (radians, map frame), for both trackers: the heading
+/// the frame's motion started from and the one after it, from the last carried heading `prev`,
+/// the frame's own `now` (finite, if it has one) and the odometry's turn `dtheta`. Before the
+/// first heading the start is the first one turned back by the turn; a frame without a heading
+/// is bridged by the turn from the last one.
+pub(super) fn carry_heading(
+    prev: Option<f64>,
+    now: Option<f64>,
+    dtheta: f64,
+) -> (Option<f64>, Option<f64>) {
+    let start = match (prev, now) {
+        (Some(p), _) => Some(p),
+        (None, Some(h)) if dtheta.is_finite() => Some(h - dtheta),
+        _ => None,
+    };
+    let next = now.or_else(|| {
+        prev.map(|h| h + dtheta)
+            .filter(|h| h.is_finite())
+            .map(|h| h.rem_euclid(std::f64::consts::TAU))
+    });
+    (start, next)
+}
+
 pub(super) fn undecided(n: usize) -> Decision {
     if n == 0 {
         Decision::Disoriented(Disoriented::NoPlaces)
@@ -331,9 +354,8 @@ pub struct Tracker {
     gates: Gates,
     anchor: Vec<f64>,
     since: Vec<f64>,
-    /// `D_i`, map frame, metres; meaningful where `disp_known[i]`.
-    disp: Vec<[f64; 2]>,
-    disp_known: Vec<bool>,
+    /// `D_i`, map frame, metres; `None` once a move without a heading made it unknown.
+    disp: Vec<Option<[f64; 2]>>,
     /// Heading of the previous frame, radians, once some frame carried one.
     heading: Option<f64>,
     pred: Vec<f64>,
@@ -510,8 +532,7 @@ impl Tracker {
             gates: Gates::new(map, &cfg),
             anchor: vec![1.0; n],
             since: vec![0.0; n],
-            disp: vec![[0.0; 2]; n],
-            disp_known: vec![true; n],
+            disp: vec![Some([0.0; 2]); n],
             heading: None,
             pred: vec![1.0; n],
             reach: vec![0.0; n * n],
@@ -529,8 +550,7 @@ impl Tracker {
     pub fn reset(&mut self) {
         self.anchor.fill(1.0);
         self.since.fill(0.0);
-        self.disp.fill([0.0; 2]);
-        self.disp_known.fill(true);
+        self.disp.fill(Some([0.0; 2]));
         self.heading = None;
         self.pred.fill(1.0);
         self.dist = PlaceDistribution::new(self.n);
@@ -577,14 +597,13 @@ impl Tracker {
         if n > 0 {
             let rows = self.reach.chunks_exact_mut(n).zip(self.gates.rows(n));
             let anchors = self.anchor.iter().zip(&self.since).zip(&self.gates.bound);
-            let moved = self.disp.iter().zip(&self.disp_known);
-            for (i, ((((row, gate), live), ((&a, &s), &bound)), (&d, &known))) in rows
+            for (i, ((((row, gate), live), ((&a, &s), &bound)), &moved)) in rows
                 .zip(self.live.iter_mut())
                 .zip(anchors)
-                .zip(moved)
+                .zip(&self.disp)
                 .enumerate()
             {
-                if known {
+                if let Some(d) = moved {
                     *live = true;
                     let shape = displacement_gate(&self.cfg, s);
                     self.gates.fill_displacement(i, d, &shape, row);
@@ -654,8 +673,7 @@ impl Tracker {
             if ev(&evidence.support, j, 0.0) >= self.cfg.anchor_support {
                 self.anchor[j] = self.dist.possibility[j];
                 self.since[j] = 0.0;
-                self.disp[j] = [0.0; 2];
-                self.disp_known[j] = true;
+                self.disp[j] = Some([0.0; 2]);
             }
         }
         let top = self.anchor.iter().copied().fold(0.0, f64::max);
@@ -666,8 +684,7 @@ impl Tracker {
         } else {
             self.anchor.fill(1.0);
             self.since.fill(0.0);
-            self.disp.fill([0.0; 2]);
-            self.disp_known.fill(true);
+            self.disp.fill(Some([0.0; 2]));
         }
 
         self.decision = decide(&self.dist, self.params);
@@ -684,11 +701,7 @@ impl Tracker {
         let now = heading
             .filter(|h| self.cfg.use_heading && h.is_finite())
             .map(f64::to_radians);
-        let start = match (self.heading, now) {
-            (Some(prev), _) => Some(prev),
-            (None, Some(h)) if dtheta.is_finite() => Some(h - dtheta),
-            _ => None,
-        };
+        let (start, next) = carry_heading(self.heading, now, dtheta);
         if ds > 0.0 {
             match start {
                 Some(th) => {
@@ -697,21 +710,15 @@ impl Tracker {
                         cs * odometry.dx - sn * odometry.dy,
                         sn * odometry.dx + cs * odometry.dy,
                     ];
-                    for d in &mut self.disp {
+                    for d in self.disp.iter_mut().flatten() {
                         d[0] = (d[0] + step[0]).clamp(-MAX_DISTANCE, MAX_DISTANCE);
                         d[1] = (d[1] + step[1]).clamp(-MAX_DISTANCE, MAX_DISTANCE);
                     }
                 }
-                None => self.disp_known.fill(false),
+                None => self.disp.fill(None),
             }
         }
-        // A frame without a heading is bridged by the odometry's turn from the last one.
-        self.heading = now.or_else(|| {
-            self.heading
-                .map(|h| h + dtheta)
-                .filter(|h| h.is_finite())
-                .map(|h| h.rem_euclid(std::f64::consts::TAU))
-        });
+        self.heading = next;
     }
 
     /// The tracked distribution of the last step (support and exclusion are the evidence's).
@@ -734,12 +741,7 @@ impl Tracker {
         TrackerState {
             anchor: self.anchor.clone(),
             since: self.since.clone(),
-            displacement: self
-                .disp
-                .iter()
-                .zip(&self.disp_known)
-                .map(|(&d, &k)| k.then_some(d))
-                .collect(),
+            displacement: self.disp.clone(),
             heading: self.heading.map(f64::to_degrees),
         }
     }
@@ -759,17 +761,14 @@ impl Tracker {
                 0.0
             };
         }
-        for (i, (d, known)) in self.disp.iter_mut().zip(&mut self.disp_known).enumerate() {
-            match state.displacement.get(i).copied().flatten() {
-                Some(v) if v.iter().all(|c| c.is_finite()) => {
-                    *d = v.map(|c| c.clamp(-MAX_DISTANCE, MAX_DISTANCE));
-                    *known = true;
-                }
-                _ => {
-                    *d = [0.0; 2];
-                    *known = false;
-                }
-            }
+        for (i, d) in self.disp.iter_mut().enumerate() {
+            *d = state
+                .displacement
+                .get(i)
+                .copied()
+                .flatten()
+                .filter(|v| v.iter().all(|c| c.is_finite()))
+                .map(|v| v.map(|c| c.clamp(-MAX_DISTANCE, MAX_DISTANCE)));
         }
         self.heading = state
             .heading
