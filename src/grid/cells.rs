@@ -291,7 +291,10 @@ impl Settle {
     pub(crate) fn all_under_floor(&self, raw: &[f32]) -> bool {
         let mut low = [0u32; SETTLE_BLOCK];
         for (l, &v) in low.iter_mut().zip(raw) {
-            *l = (self.scaled(v) < self.floor) as u32;
+            // `scaled(v) < floor` in fewer operations: 0 under the flush (or
+            // NaN), else `min(v·k, 1)`, which is under `floor ≤ 1` exactly
+            // when `v·k` is.
+            *l = (!(v >= self.flush) | (v * self.k < self.floor)) as u32;
         }
         raw.len() == SETTLE_BLOCK && low.iter().fold(1, |a, &l| a & l) == 1
     }
@@ -504,7 +507,7 @@ mod tests {
     fn settling_in_blocks_matches_the_reference_bit_for_bit() {
         let same = |x: f32, y: f32| x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan());
         let mut rnd = crate::grid::test_rng(4242u32);
-        for floor in [0.0, 1e-8, 1e-3, 0.5] {
+        for floor in [0.0, 1e-8, 1e-3, 0.5, 1.0] {
             let s = Settle {
                 flush: 1e-9,
                 k: 1.25,
