@@ -23,7 +23,7 @@ use super::predict::Pending;
 use super::{GridConfig, GridError, Trapezoid};
 use std::f32::consts::PI;
 
-/// Largest number of cells a grid may have (about 1.5 GB of planes).
+/// Largest number of cells a grid may have (about 1.8 GB of planes).
 pub const MAX_CELLS: usize = 64 << 20;
 
 /// The Fuzzy Position Grid of paper 000.
@@ -52,6 +52,9 @@ pub struct FuzzyGrid {
     /// Chunk maxima and block bounds of the dilation's column and diagonal
     /// passes.
     pub(crate) cm: Vec<f32>,
+    /// Window maxima of the dilation's offset passes (a row of maxima, the
+    /// suffix plane, two prefix rows).
+    pub(crate) wmax: Vec<f32>,
     pub(crate) pending: Pending,
     /// Height of the plane before the last normalisation.
     pub(crate) last_height: f32,
@@ -98,6 +101,7 @@ impl FuzzyGrid {
             line_out: vec![0.0; longest],
             deque: vec![0; longest],
             cm: vec![0.0; super::dilate::chunk_len(nx, ny)],
+            wmax: vec![0.0; super::dilate::window_len(nx, ny)],
             pending: Pending::default(),
             last_height: 1.0,
         };
@@ -294,7 +298,8 @@ impl Settle {
             // `scaled(v) < floor` in fewer operations: 0 under the flush (or
             // NaN), else `min(v·k, 1)`, which is under `floor ≤ 1` exactly
             // when `v·k` is.
-            *l = (!(v >= self.flush) | (v * self.k < self.floor)) as u32;
+            let kept = v >= self.flush; // false for NaN too
+            *l = (!kept | (v * self.k < self.floor)) as u32;
         }
         raw.len() == SETTLE_BLOCK && low.iter().fold(1, |a, &l| a & l) == 1
     }
