@@ -23,7 +23,7 @@ use super::predict::Pending;
 use super::{GridConfig, GridError, Trapezoid};
 use std::f32::consts::PI;
 
-/// Largest number of cells a grid may have (about 1.8 GB of planes).
+/// Largest number of cells a grid may have (about 1.5 GB of planes).
 pub const MAX_CELLS: usize = 64 << 20;
 
 /// The Fuzzy Position Grid of paper 000.
@@ -52,9 +52,6 @@ pub struct FuzzyGrid {
     /// Chunk maxima and block bounds of the dilation's column and diagonal
     /// passes.
     pub(crate) cm: Vec<f32>,
-    /// Window maxima of the dilation's offset passes (a row of maxima, the
-    /// suffix plane, two prefix rows).
-    pub(crate) wmax: Vec<f32>,
     pub(crate) pending: Pending,
     /// Height of the plane before the last normalisation.
     pub(crate) last_height: f32,
@@ -98,10 +95,9 @@ impl FuzzyGrid {
             bias: vec![1.0; n],
             scratch: vec![0.0; n],
             line: vec![0.0; longest.max(super::dilate::padded_row(nx))],
-            line_out: vec![0.0; longest],
+            line_out: vec![0.0; longest.max(super::dilate::padded_row(nx) + 32)],
             deque: vec![0; longest],
             cm: vec![0.0; super::dilate::chunk_len(nx, ny)],
-            wmax: vec![0.0; super::dilate::window_len(nx, ny)],
             pending: Pending::default(),
             last_height: 1.0,
         };

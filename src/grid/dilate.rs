@@ -160,13 +160,6 @@ pub(crate) fn padded_row(nx: usize) -> usize {
     nx.div_ceil(LANES) * LANES + 2 * LEVEL_MAX
 }
 
-/// Length of the window-maximum buffer of an `nx × ny` grid: a row of
-/// maxima with a block of slack past a padded row, the suffix plane and
-/// two prefix rows, padded by [`PAD`] columns either side.
-pub(crate) fn window_len(nx: usize, ny: usize) -> usize {
-    padded_row(nx) + 2 * LANES + (nx + 2 * PAD) * (ny + 2)
-}
-
 /// Length of the block-bound buffer of an `nx × ny` grid: three values
 /// (maximum, minimum, bound) per 16-column chunk of every group of
 /// [`GROUP`] rows.
@@ -385,50 +378,51 @@ fn max_shifted(cur: &mut [f32], prev: &[f32], dx: isize) {
     }
 }
 
-/// Row `j` of `h` between [`PAD`] zeros either side (`nx + 2·PAD` values).
+/// `row` between [`PAD`] zeros either side (`row.len() + 2·PAD` values).
 #[inline(always)]
-fn padded(dst: &mut [f32], h: &[f32], nx: usize, j: usize) {
+fn padded(dst: &mut [f32], row: &[f32]) {
+    let nx = row.len();
     dst[..PAD].fill(0.0);
-    dst[PAD..PAD + nx].copy_from_slice(&h[j * nx..(j + 1) * nx]);
+    dst[PAD..PAD + nx].copy_from_slice(row);
     dst[PAD + nx..].fill(0.0);
 }
 
-/// Suffix maxima along the lines `(dx, 1)` in chunks of `w` rows (van
-/// Herk / Gil–Werman), on rows padded by [`PAD`] zeros either side (`pw =
-/// nx + 2·PAD` values per row): row `j` of `s` holds, for each padded
-/// column, the maximum of its line from row `j` to the last row of `j`'s
-/// chunk (or of the grid). Each row is one vector step from the one below.
+/// Suffix maxima along the lines `(dx, 1)` of the chunk of `w` rows from
+/// `c0` (van Herk / Gil–Werman), rows `row(r)` padded by [`PAD`] zeros
+/// either side (`pw = nx + 2·PAD` values per row): row `r − c0` of `s`
+/// holds, for each padded column, the maximum of its line from row `r` to
+/// the chunk's last row (or the grid's). Each row is one vector step from
+/// the one below.
 ///
 /// # Complexity
 ///
-/// O(pw · ny), whatever `w`.
-fn line_suffix(h: &[f32], nx: usize, w: usize, dx: isize, s: &mut [f32]) {
+/// O(pw · w).
+fn chunk_suffix<'a>(
+    row: impl Fn(usize) -> &'a [f32],
+    (nx, ny): (usize, usize),
+    (w, dx): (usize, isize),
+    c0: usize,
+    s: &mut [f32],
+) {
     let pw = nx + 2 * PAD;
-    let ny = h.len() / nx;
-    for j in (0..ny).rev() {
-        let (cur, next) = s.split_at_mut((j + 1) * pw);
-        let cur = &mut cur[j * pw..];
-        padded(cur, h, nx, j);
-        if j % w != w - 1 && j + 1 < ny {
+    let end = (c0 + w).min(ny);
+    for r in (c0..end).rev() {
+        let (cur, next) = s.split_at_mut((r - c0 + 1) * pw);
+        let cur = &mut cur[(r - c0) * pw..];
+        padded(cur, row(r));
+        if r + 1 < end {
             max_shifted(cur, &next[..pw], -dx);
         }
     }
 }
 
-/// The prefix maxima of row `r` along the lines `(dx, 1)` (chunks of `w`
-/// rows, padded as in [`line_suffix`]) into `dst`, from those of row `r −
-/// 1` in `prev`: the maximum of each line from the first row of `r`'s
-/// chunk to `r`.
+/// The prefix maxima of row `r` (values `row`) along the lines `(dx, 1)`,
+/// chunks of `w` rows, padded as in [`chunk_suffix`], into `dst`, from
+/// those of row `r − 1` in `prev`: the maximum of each line from the first
+/// row of `r`'s chunk to `r`.
 #[inline]
-fn line_prefix_step(
-    h: &[f32],
-    nx: usize,
-    (w, dx): (usize, isize),
-    r: usize,
-    dst: &mut [f32],
-    prev: &[f32],
-) {
-    padded(dst, h, nx, r);
+fn line_prefix_step(row: &[f32], (w, dx): (usize, isize), r: usize, dst: &mut [f32], prev: &[f32]) {
+    padded(dst, row);
     if r % w != 0 {
         max_shifted(dst, prev, dx);
     }
@@ -437,9 +431,9 @@ fn line_prefix_step(
 /// The window maxima of row `j` along the lines `(dx, 1)`, reach `k`
 /// samples (`w = 2k + 1`), into `out[..nx]`: `max(s[a], p)` at the
 /// window's ends `a = j − k` and `b = j + k` (clipped to the grid), `p` the
-/// prefix maxima of row `b` ([`line_prefix_step`]) and `s` the suffix plane
-/// ([`line_suffix`]); one of them when both ends share a chunk (then `a`
-/// starts it, or `b` is the grid's last row).
+/// prefix maxima of row `b` ([`line_prefix_step`]) and `s` the suffix
+/// maxima of `a`'s chunk ([`chunk_suffix`]); one of them when both ends
+/// share a chunk (then `a` starts it, or `b` is the grid's last row).
 fn window_max_row(
     p: &[f32],
     s: &[f32],
@@ -453,7 +447,7 @@ fn window_max_row(
     let (a, b) = (j.saturating_sub(k), (j + k).min(ny - 1));
     // Where the line of column 0 of row j crosses row r, padded.
     let col = |r: usize| (PAD as isize + dx * (r as isize - j as isize)) as usize;
-    let sa = &s[a * pw + col(a)..][..nx];
+    let sa = &s[(a % w) * pw + col(a)..][..nx];
     let pb = &p[col(b)..][..nx];
     let out = &mut out[..nx];
     if a / w == b / w {
@@ -773,7 +767,6 @@ impl FuzzyGrid {
             line,
             line_out,
             cm,
-            wmax,
             ..
         } = self;
         let (gmax, rest) = cm.split_at_mut(g_n * q_n);
@@ -805,17 +798,16 @@ impl FuzzyGrid {
         // computed in O(1) per cell. Worth the planes when they are many.
         let low = b[kmax];
         let flat = |u: f32| u >= 0.0 && u <= low;
+        // Their buffers: a row of maxima in `line_out`; for columns and
+        // diagonals, after the ring in the scratch plane, a chunk of suffix
+        // maxima and two rows of prefix maxima (padded rows), when they fit.
+        let (slots, pw, w) = (kmax + 1, nx + 2 * PAD, 2 * kmax + 1);
+        let fits = dy == 0 || slots * nx + (w + 2) * pw <= scratch.len();
         let exact = maxima_ok
+            && fits
             && kmax >= EXACT_REACH
             && EXACT_SHARE * ub.iter().filter(|&&u| flat(u)).count() >= ub.len();
-        // The window-maximum buffers: a row of maxima (with a block of
-        // slack), and for columns and diagonals the two planes.
-        let (pw, row_len) = (nx + 2 * PAD, padded_row(nx) + 2 * LANES);
-        let need = row_len + if dy == 0 { 0 } else { pw * (ny + 2) };
-        if exact && wmax.len() < need {
-            wmax.resize(need, 0.0); // only for a grid built before its size was known
-        }
-        let (mrow, planes) = wmax.split_at_mut(if exact { row_len } else { 0 });
+        let mrow = &mut line_out[..];
         // A block's bound, or None when both its chunks are left alone.
         let bound = |j: usize, c0: usize| {
             let at = (j / GROUP) * q_n;
@@ -853,35 +845,53 @@ impl FuzzyGrid {
                 }
             }
         } else {
-            let slots = kmax + 1;
-            let ring = &mut scratch[..slots * nx];
+            let (ring, rest) = scratch.split_at_mut(slots * nx);
             let stride = nx as isize + dx; // one step along the line, in the plane
-                                           // The suffix plane, and two rows for the prefix maxima of row
-                                           // min(j + K, ny − 1) (`p_now`) and the one before.
-            let (sp, rows) = planes.split_at_mut(if exact { pw * ny } else { 0 });
-            let (mut p_now, mut p_old) = rows.split_at_mut(if exact { pw } else { 0 });
-            let wk = (2 * kmax + 1, dx);
+                                           // The suffix maxima of the chunk of row j − K, and the prefix
+                                           // maxima of row min(j + K, ny − 1) (`p_now`) and the one before.
+            let (sp, rows) = rest.split_at_mut(if exact { w * pw } else { 0 });
+            let rows = &mut rows[..if exact { 2 * pw } else { 0 }];
+            let (mut p_now, mut p_old) = rows.split_at_mut(rows.len() / 2);
+            let wk = (w, dx);
             if exact {
-                line_suffix(h, nx, wk.0, dx, sp);
                 for r in 0..=kmax.min(ny - 1) {
-                    line_prefix_step(h, nx, wk, r, p_old, p_now);
+                    line_prefix_step(&h[r * nx..(r + 1) * nx], wk, r, p_old, p_now);
                     std::mem::swap(&mut p_now, &mut p_old);
                 }
             }
             for j in 0..ny {
-                // Rows below j are untouched yet: row j + K's prefix
-                // maxima follow from the row before's.
-                if exact && j > 0 && j + kmax < ny {
-                    line_prefix_step(h, nx, wk, j + kmax, p_old, &p_now[..pw]);
-                    std::mem::swap(&mut p_now, &mut p_old);
-                }
-                // Row j is read by blocks of rows j..=j + kmax.
+                // Row j is read by blocks of rows j..=j + kmax (and by the
+                // window maxima of rows j..=j + 2K, which need every row).
                 let (g, g_last) = (j / GROUP, (j + kmax).min(ny - 1) / GROUP);
-                if !(g..=g_last).any(group_active) {
+                if !exact && !(g..=g_last).any(group_active) {
                     continue;
                 }
                 let slot = (j % slots) * nx;
                 ring[slot..slot + nx].copy_from_slice(&h[j * nx..(j + 1) * nx]);
+                if exact {
+                    // Rows below j are untouched yet: row j + K's prefix
+                    // maxima follow from the row before's.
+                    if j > 0 && j + kmax < ny {
+                        let r = j + kmax;
+                        line_prefix_step(&h[r * nx..(r + 1) * nx], wk, r, p_old, p_now);
+                        std::mem::swap(&mut p_now, &mut p_old);
+                    }
+                    // Row j − K starts a chunk: its suffix maxima, from the
+                    // rows' values before this pass (rows up to j in the
+                    // ring, the others untouched in the plane).
+                    if j >= kmax && (j - kmax) % w == 0 {
+                        let ring = &*ring;
+                        let h = &*h;
+                        let row = |r: usize| {
+                            if r <= j {
+                                &ring[(r % slots) * nx..(r % slots + 1) * nx]
+                            } else {
+                                &h[r * nx..(r + 1) * nx]
+                            }
+                        };
+                        chunk_suffix(row, (nx, ny), wk, j - kmax, sp);
+                    }
+                }
                 if !group_active(g) {
                     continue;
                 }
