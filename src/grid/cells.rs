@@ -95,7 +95,7 @@ impl FuzzyGrid {
             bias: vec![1.0; n],
             scratch: vec![0.0; n],
             line: vec![0.0; longest.max(super::dilate::padded_row(nx))],
-            line_out: vec![0.0; longest],
+            line_out: vec![0.0; longest.max(super::dilate::padded_row(nx) + 32)],
             deque: vec![0; longest],
             cm: vec![0.0; super::dilate::chunk_len(nx, ny)],
             pending: Pending::default(),
@@ -221,15 +221,7 @@ impl FuzzyGrid {
             Err(height) => return height,
         };
         let FuzzyGrid { h, bias, delta, .. } = self;
-        if s.floor > 0.0 {
-            for ((h, b), d) in h.iter_mut().zip(bias.iter_mut()).zip(delta.iter_mut()) {
-                (*h, *b, *d) = s.cell(*h, *b, *d);
-            }
-        } else {
-            for h in h.iter_mut() {
-                *h = s.height(*h);
-            }
-        }
+        s.settle_cells(h, bias, delta);
         self.last_height
     }
 
@@ -263,6 +255,10 @@ impl FuzzyGrid {
     }
 }
 
+/// Cells per block of the settle passes' floor shortcut
+/// ([`Settle::all_under_floor`]): four SSE2 vectors, one branch.
+pub(crate) const SETTLE_BLOCK: usize = 16;
+
 /// How an update leaves each cell, from its raw value (the plane combined
 /// with the observation): flushed under `flush`, scaled by `k` (≥ 1, the
 /// normalisation), clamped to 1, and kept at `floor`.
@@ -284,6 +280,67 @@ impl Settle {
         let m = raw * self.k;
         let n = if m < 1.0 { m } else { 1.0 }; // f32::min's NaN rule blocks SIMD
         blend(raw >= self.flush, n, 0.0)
+    }
+
+    /// True when every cell of `raw` (a block of [`SETTLE_BLOCK`] raw
+    /// values) ends under the floor, where [`Settle::cell`] gives `(floor,
+    /// 1, 2π)` whatever the cell's heading set was: the block can take those
+    /// three constants without its bias and Δ being read, and without the
+    /// division (most of a converged grid, whose cells sit at the floor).
+    #[inline(always)]
+    pub(crate) fn all_under_floor(&self, raw: &[f32]) -> bool {
+        let mut low = [0u32; SETTLE_BLOCK];
+        for (l, &v) in low.iter_mut().zip(raw) {
+            // `scaled(v) < floor` in fewer operations: 0 under the flush (or
+            // NaN), else `min(v·k, 1)`, which is under `floor ≤ 1` exactly
+            // when `v·k` is.
+            let kept = v >= self.flush; // false for NaN too
+            *l = (!kept | (v * self.k < self.floor)) as u32;
+        }
+        raw.len() == SETTLE_BLOCK && low.iter().fold(1, |a, &l| a & l) == 1
+    }
+
+    /// What [`Settle::cell`] makes of cells that end under the floor:
+    /// possibility `floor`, bias 1, Δ = 2π.
+    #[inline(always)]
+    pub(crate) fn put_at_floor(&self, h: &mut [f32], b: &mut [f32], d: &mut [f32]) {
+        h.fill(self.floor);
+        b.fill(1.0);
+        d.fill(2.0 * PI);
+    }
+
+    /// Settles cells from their raw values `h` (the plane combined with an
+    /// observation), biases `b` and widths `d`, in place, by
+    /// [`Settle::cell`] (or [`Settle::height`] with no floor). Blocks of
+    /// cells all ending under the floor take its three constants
+    /// ([`Settle::all_under_floor`], [`Settle::put_at_floor`]).
+    #[inline(always)]
+    pub(crate) fn settle_cells(&self, h: &mut [f32], b: &mut [f32], d: &mut [f32]) {
+        if self.floor <= 0.0 {
+            for v in h.iter_mut() {
+                *v = self.height(*v);
+            }
+            return;
+        }
+        let mut hs = h.chunks_exact_mut(SETTLE_BLOCK);
+        let mut bs = b.chunks_exact_mut(SETTLE_BLOCK);
+        let mut ds = d.chunks_exact_mut(SETTLE_BLOCK);
+        for ((hc, bc), dc) in (&mut hs).zip(&mut bs).zip(&mut ds) {
+            if self.all_under_floor(hc) {
+                self.put_at_floor(hc, bc, dc);
+                continue;
+            }
+            let cells = hc.iter_mut().zip(bc.iter_mut()).zip(dc.iter_mut());
+            for ((h, b), d) in cells {
+                (*h, *b, *d) = self.cell(*h, *b, *d);
+            }
+        }
+        let rest = (hs.into_remainder().iter_mut())
+            .zip(bs.into_remainder())
+            .zip(ds.into_remainder());
+        for ((h, b), d) in rest {
+            (*h, *b, *d) = self.cell(*h, *b, *d);
+        }
     }
 
     /// The cell's new possibility with no floor (`floor = 0`).
@@ -437,6 +494,46 @@ mod tests {
                             assert!(same(got, want.0), "raw {raw} k {k}: {got} vs {}", want.0);
                         }
                     }
+                }
+            }
+        }
+    }
+
+    /// The block shortcut ([`Settle::all_under_floor`]) must not change a
+    /// bit: planes whose 16-cell blocks are all under the floor, all above,
+    /// mixed by one cell, with NaN or infinite cells, and a remainder that
+    /// is not a whole block, settled by [`Settle::settle_cells`] against
+    /// the reference cell by cell.
+    #[test]
+    fn settling_in_blocks_matches_the_reference_bit_for_bit() {
+        let same = |x: f32, y: f32| x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan());
+        let mut rnd = crate::grid::test_rng(4242u32);
+        for floor in [0.0, 1e-8, 1e-3, 0.5, 1.0] {
+            let s = Settle {
+                flush: 1e-9,
+                k: 1.25,
+                floor,
+            };
+            for n in [0usize, 5, 16, 37, 200] {
+                let mut h: Vec<f32> = (0..n)
+                    .map(|i| match (i / SETTLE_BLOCK) % 4 {
+                        0 => floor * 0.5 * rnd(),           // whole block under the floor
+                        1 => floor + (1.0 - floor) * rnd(), // above it
+                        2 if i % SETTLE_BLOCK == 7 => 0.9,  // one cell above in a low block
+                        _ => [f32::NAN, f32::INFINITY, 0.0, 1e-12][i % 4] + floor * 0.1 * rnd(),
+                    })
+                    .collect();
+                let mut b: Vec<f32> = (0..n).map(|_| rnd()).collect();
+                let mut d: Vec<f32> = (0..n).map(|_| 6.0 * rnd()).collect();
+                let want: Vec<_> = (0..n).map(|i| reference(h[i], b[i], d[i], s)).collect();
+                s.settle_cells(&mut h, &mut b, &mut d);
+                for (i, w) in want.iter().enumerate() {
+                    let (wh, wb, wd) = if floor > 0.0 { *w } else { (w.0, b[i], d[i]) };
+                    assert!(
+                        same(h[i], wh) && same(b[i], wb) && same(d[i], wd),
+                        "floor {floor} n {n} cell {i}: {:?} vs {w:?}",
+                        (h[i], b[i], d[i])
+                    );
                 }
             }
         }

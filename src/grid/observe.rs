@@ -48,7 +48,7 @@
 //! assert!(g.possibility(c, r) < 0.2);
 //! ```
 
-use super::cells::{blend, fmax, fmin, raw_max};
+use super::cells::{blend, fmax, fmin, raw_max, SETTLE_BLOCK};
 use super::{Combine, FuzzyGrid, GridError, Trapezoid};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::{FRAC_PI_2, PI};
@@ -713,15 +713,9 @@ impl FuzzyGrid {
         let kept = &mut line[..nx];
         for j in 0..self.ny {
             let r = j * nx..(j + 1) * nx;
-            let cells = h[r.clone()]
-                .iter_mut()
-                .zip(bias[r.clone()].iter_mut())
-                .zip(delta[r.clone()].iter_mut())
-                .zip(kept.iter_mut());
             // Every cell settled, the pending ones with the observation's
             // set; `kept` marks those that stay above the floor.
-            let mut any = false;
-            for (((h, b), d), k) in cells {
+            let settle = |h: &mut f32, b: &mut f32, d: &mut f32, k: &mut f32| {
                 let pend = *d == PENDING;
                 let b_in = blend(pend, *b * obs.bias, *b);
                 let d_in = blend(pend, obs.core, *d);
@@ -733,7 +727,37 @@ impl FuzzyGrid {
                     (*b, *d) = (b_in, d_in);
                     *k = blend(pend, 1.0, 0.0);
                 }
-                any |= *k != 0.0;
+                *k != 0.0
+            };
+            let mut hs = h[r.clone()].chunks_exact_mut(SETTLE_BLOCK);
+            let mut bs = bias[r.clone()].chunks_exact_mut(SETTLE_BLOCK);
+            let mut ds = delta[r.clone()].chunks_exact_mut(SETTLE_BLOCK);
+            let mut ks = kept.chunks_exact_mut(SETTLE_BLOCK);
+            let mut any = false;
+            for (((hb, bb), db), kb) in (&mut hs).zip(&mut bs).zip(&mut ds).zip(&mut ks) {
+                if st.floor > 0.0 && st.all_under_floor(hb) {
+                    st.put_at_floor(hb, bb, db);
+                    kb.fill(0.0);
+                    continue;
+                }
+                let (hb, bb): (&mut [f32; SETTLE_BLOCK], &mut [f32; SETTLE_BLOCK]) = (
+                    hb.try_into().expect("a block"),
+                    bb.try_into().expect("a block"),
+                );
+                let (db, kb): (&mut [f32; SETTLE_BLOCK], &mut [f32; SETTLE_BLOCK]) = (
+                    db.try_into().expect("a block"),
+                    kb.try_into().expect("a block"),
+                );
+                for i in 0..SETTLE_BLOCK {
+                    any |= settle(&mut hb[i], &mut bb[i], &mut db[i], &mut kb[i]);
+                }
+            }
+            let rest = (hs.into_remainder().iter_mut())
+                .zip(bs.into_remainder())
+                .zip(ds.into_remainder())
+                .zip(ks.into_remainder());
+            for (((h, b), d), k) in rest {
+                any |= settle(h, b, d, k);
             }
             if !any {
                 continue;
