@@ -66,8 +66,9 @@
 //!   reach of a group is at most the element's lowest level `B(K)`, each
 //!   term is `min(M_k, B(k)) = M_k` (`M_k` the maximum within `k` samples),
 //!   so every cell becomes its window maximum `M_K`: van Herk / Gil–Werman
-//!   along columns and diagonals (suffix maxima in chunks of `2K + 1` rows,
-//!   a plane computed before the pass, prefix maxima one row ahead of it),
+//!   along columns and diagonals (suffix maxima a chunk of `2K + 1` rows at
+//!   a time, in the scratch plane after the ring; prefix maxima one row
+//!   ahead),
 //!   doubling widths along rows; O(1) per cell whatever `K`. Used when the
 //!   reach is at least 4 samples (below, the offsets are cheaper) and at
 //!   least a quarter of the groups are flat (else the plane is not worth
@@ -112,7 +113,8 @@
 //! columns and diagonals gathered 16 lines at a time so that each cache line
 //! is fetched once. No allocation (the buffers live in the grid: a ring of
 //! `K + 1` rows in the scratch plane, a padded row, three values per group,
-//! a padded plane and three rows for the window maxima).
+//! and, for the window maxima, a chunk of padded rows after the ring and a
+//! row in `line_out`).
 //!
 //! # Example
 //!
@@ -359,7 +361,7 @@ fn run_block(acc: &mut Block, u: f32, b: &[f32], ring: impl Fn(usize) -> (Block,
     }
 }
 
-/// Columns of padding on either side of the window-maximum planes: a line
+/// Columns of padding on either side of the window-maximum rows: a line
 /// within reach of the grid stays within [`LEVEL_MAX`] columns of it.
 const PAD: usize = LEVEL_MAX;
 
@@ -459,6 +461,18 @@ fn window_max_row(
     }
 }
 
+/// `v[at..at + 16] = max(v[at..at + 16], v[from..from + 16])`, both blocks
+/// loaded before the store.
+#[inline(always)]
+fn max_into(v: &mut [f32], at: usize, from: usize) {
+    let (x, y) = (load(v, at), load(v, from));
+    let mut r = [[0.0; 4]; 4];
+    for q in 0..4 {
+        r[q] = vmax(x[q], y[q]);
+    }
+    store(v, at, &r, LANES);
+}
+
 /// The window maxima of a padded row `lp` (the row at `kmax`, zeros
 /// around), reach `kmax`: `out[c] = max lp[c ..= c + 2·kmax]` for the
 /// `n` first columns (a whole number of blocks), by doubling widths in
@@ -478,24 +492,14 @@ fn window_max_padded(lp: &[f32], kmax: usize, n: usize, out: &mut [f32]) {
         while i + w < len {
             // The loads of a block come before its store, and later blocks
             // read only cells after it: in place is safe.
-            let (x, y) = (load(out, i), load(out, i + w));
-            let mut r = [[0.0; 4]; 4];
-            for q in 0..4 {
-                r[q] = vmax(x[q], y[q]);
-            }
-            store(out, i, &r, LANES);
+            max_into(out, i, i + w);
             i += LANES;
         }
         w *= 2;
     }
     let mut c = 0;
     while c < n {
-        let (x, y) = (load(out, c), load(out, c + wlen - w));
-        let mut r = [[0.0; 4]; 4];
-        for q in 0..4 {
-            r[q] = vmax(x[q], y[q]);
-        }
-        store(out, c, &r, LANES);
+        max_into(out, c, c + wlen - w);
         c += LANES;
     }
 }
@@ -791,11 +795,10 @@ impl FuzzyGrid {
             }
         }
         let group_active = |g: usize| ub[g * q_n..(g + 1) * q_n].iter().any(|&u| u >= 0.0);
-        let worked = ub.iter().filter(|&&u| u >= 0.0).count();
         // Group-chunks whose every value within reach is at most the
         // element's lowest level: each of their cells becomes its window
         // maximum (every term is `min(M_k, b[k]) = M_k`, the largest `M_K`),
-        // computed in O(1) per cell. Worth the planes when they are many.
+        // computed in O(1) per cell. Worth their sweeps when they are many.
         let low = b[kmax];
         let flat = |u: f32| u >= 0.0 && u <= low;
         // Their buffers: a row of maxima in `line_out`; for columns and
@@ -947,6 +950,7 @@ impl FuzzyGrid {
         if !keep_extrema {
             return;
         }
+        let worked = ub.iter().filter(|&&u| u >= 0.0).count();
         // For a next offset pass. Every output is at most its group's bound
         // and at least its input (dilation is extensive): when most of the
         // plane was worked on, those bounds stand for the extrema (measuring
