@@ -48,7 +48,7 @@
 //! assert!(g.possibility(c, r) < 0.2);
 //! ```
 
-use super::cells::{blend, fmax, fmin, raw_max, SETTLE_BLOCK};
+use super::cells::{as_block, blend, fmax, fmin, raw_max, SETTLE_BLOCK};
 use super::{Combine, FuzzyGrid, GridError, Trapezoid};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::{FRAC_PI_2, PI};
@@ -729,35 +729,39 @@ impl FuzzyGrid {
                 }
                 *k != 0.0
             };
-            let mut hs = h[r.clone()].chunks_exact_mut(SETTLE_BLOCK);
-            let mut bs = bias[r.clone()].chunks_exact_mut(SETTLE_BLOCK);
-            let mut ds = delta[r.clone()].chunks_exact_mut(SETTLE_BLOCK);
-            let mut ks = kept.chunks_exact_mut(SETTLE_BLOCK);
             let mut any = false;
-            for (((hb, bb), db), kb) in (&mut hs).zip(&mut bs).zip(&mut ds).zip(&mut ks) {
-                if st.floor > 0.0 && st.all_under_floor(hb) {
-                    st.put_at_floor(hb, bb, db);
-                    kb.fill(0.0);
-                    continue;
+            kept.fill(0.0); // the cells put at the floor stay unmarked
+            let (hr, br, dr) = (
+                &mut h[r.clone()],
+                &mut bias[r.clone()],
+                &mut delta[r.clone()],
+            );
+            let mut others = |h: &mut [f32], b: &mut [f32], d: &mut [f32], at: usize| {
+                let k = &mut kept[at..at + h.len()];
+                match (as_block(h), as_block(b), as_block(d), as_block(k)) {
+                    // Fixed-length loop: the form that vectorises.
+                    (Some(hb), Some(bb), Some(db), Some(kb)) => {
+                        for i in 0..SETTLE_BLOCK {
+                            any |= settle(&mut hb[i], &mut bb[i], &mut db[i], &mut kb[i]);
+                        }
+                    }
+                    _ => {
+                        let cells = h.iter_mut().zip(b.iter_mut()).zip(d.iter_mut());
+                        for (((h, b), d), k) in cells.zip(k.iter_mut()) {
+                            any |= settle(h, b, d, k);
+                        }
+                    }
                 }
-                let (hb, bb): (&mut [f32; SETTLE_BLOCK], &mut [f32; SETTLE_BLOCK]) = (
-                    hb.try_into().expect("a block"),
-                    bb.try_into().expect("a block"),
-                );
-                let (db, kb): (&mut [f32; SETTLE_BLOCK], &mut [f32; SETTLE_BLOCK]) = (
-                    db.try_into().expect("a block"),
-                    kb.try_into().expect("a block"),
-                );
-                for i in 0..SETTLE_BLOCK {
-                    any |= settle(&mut hb[i], &mut bb[i], &mut db[i], &mut kb[i]);
+            };
+            if st.floor > 0.0 {
+                st.settle_chunks(hr, br, dr, others);
+            } else {
+                let blocks = (hr.chunks_mut(SETTLE_BLOCK))
+                    .zip(br.chunks_mut(SETTLE_BLOCK))
+                    .zip(dr.chunks_mut(SETTLE_BLOCK));
+                for (i, ((hb, bb), db)) in blocks.enumerate() {
+                    others(hb, bb, db, i * SETTLE_BLOCK);
                 }
-            }
-            let rest = (hs.into_remainder().iter_mut())
-                .zip(bs.into_remainder())
-                .zip(ds.into_remainder())
-                .zip(ks.into_remainder());
-            for (((h, b), d), k) in rest {
-                any |= settle(h, b, d, k);
             }
             if !any {
                 continue;
