@@ -294,7 +294,7 @@ impl Settle {
     /// the full path, which flushes it.
     fn low_max(flush: f32, k: f32, floor: f32) -> f32 {
         let by_flush = if flush > f32::NEG_INFINITY {
-            flush.next_down()
+            next_down(flush)
         } else {
             f32::NEG_INFINITY
         };
@@ -305,14 +305,14 @@ impl Settle {
         }
         let mut steps = 0;
         while !under(t) && steps < 8 {
-            t = t.next_down();
+            t = next_down(t);
             steps += 1;
         }
         if !under(t) {
             return by_flush;
         }
-        while under(t.next_up()) && steps < 16 {
-            t = t.next_up();
+        while under(next_up(t)) && steps < 16 {
+            t = next_up(t);
             steps += 1;
         }
         if by_flush > t {
@@ -496,6 +496,25 @@ impl Settle {
     }
 }
 
+/// The next float towards +∞ (`f32::next_up`, which is newer than the
+/// crate's minimum Rust); NaN and +∞ stay.
+fn next_up(v: f32) -> f32 {
+    if v.is_nan() || v == f32::INFINITY {
+        return v;
+    }
+    let b = v.to_bits();
+    f32::from_bits(match v {
+        0.0 => 1, // from ±0, the smallest positive subnormal
+        _ if v > 0.0 => b + 1,
+        _ => b - 1,
+    })
+}
+
+/// The next float towards −∞.
+fn next_down(v: f32) -> f32 {
+    -next_up(-v)
+}
+
 /// `v` as an array when it is a whole block of [`SETTLE_BLOCK`] cells.
 #[inline(always)]
 pub(crate) fn as_block(v: &mut [f32]) -> Option<&mut [f32; SETTLE_BLOCK]> {
@@ -633,6 +652,25 @@ mod tests {
         }
     }
 
+    /// Our `next_up`/`next_down` against the standard library's (newer than
+    /// the crate's minimum Rust, fine in a test).
+    #[test]
+    #[allow(clippy::incompatible_msrv)]
+    fn next_float_matches_std() {
+        let mut rnd = crate::grid::test_rng(5u32);
+        let specials = [0.0, -0.0, 1e-45, -1e-45, 1.0, -1.0, f32::MAX, -f32::MAX];
+        let inf = [f32::INFINITY, f32::NEG_INFINITY, f32::NAN];
+        for v in specials
+            .into_iter()
+            .chain(inf)
+            .chain((0..1000).map(|_| (rnd() - 0.5) * 1e3))
+        {
+            let same = |a: f32, b: f32| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+            assert!(same(next_up(v), v.next_up()), "next_up({v})");
+            assert!(same(next_down(v), v.next_down()), "next_down({v})");
+        }
+    }
+
     /// The floor test by threshold: every value up to [`Settle::low_max`]
     /// ends under the floor by the definition (flushed, or `v·k < floor`),
     /// and the next float up does not (the threshold is as large as it may
@@ -652,7 +690,7 @@ mod tests {
                         "k {k} flush {flush} floor {floor}: T = {t}"
                     );
                     assert!(
-                        !low(t.next_up(), flush, k, floor),
+                        !low(next_up(t), flush, k, floor),
                         "k {k} flush {flush} floor {floor}: T = {t} not the largest"
                     );
                     for _ in 0..200 {
@@ -680,7 +718,16 @@ mod tests {
         let mut rnd = crate::grid::test_rng(4242u32);
         for floor in [0.0, 1e-8, 1e-3, 0.5, 1.0] {
             let s = Settle::new(1e-9, 1.25, floor);
-            for n in [0usize, 5, 16, 37, 200] {
+            for n in [
+                0usize,
+                5,
+                16,
+                37,
+                200,
+                SETTLE_CHUNK,
+                SETTLE_CHUNK + 37,
+                3000,
+            ] {
                 let mut h: Vec<f32> = (0..n)
                     .map(|i| match (i / SETTLE_BLOCK) % 5 {
                         0 => floor * 0.5 * rnd(),           // whole block under the floor
@@ -690,10 +737,10 @@ mod tests {
                         3 => {
                             let mut v = floor / 1.25;
                             for _ in 0..(i % 7) {
-                                v = v.next_down();
+                                v = next_down(v);
                             }
                             for _ in 0..(i % 3) {
-                                v = v.next_up();
+                                v = next_up(v);
                             }
                             v
                         }
