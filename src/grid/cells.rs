@@ -262,63 +262,37 @@ pub(crate) const SETTLE_CHUNK: usize = 64 * SETTLE_BLOCK;
 /// How an update leaves each cell, from its raw value (the plane combined
 /// with the observation): flushed under `flush`, scaled by `k` (≥ 1, the
 /// normalisation), clamped to 1, and kept at `floor`.
+///
+/// The floor shortcut tests `v ≤ low_max`: every raw value up to it ends
+/// under the floor (flushed, or `v·k < floor`), and the threshold is as
+/// large as the two conditions allow, so one comparison per cell replaces
+/// three operations. `v·k` rounds monotonically in `v` (`k > 0`), so the
+/// values under the floor are all those up to the largest `t` with `t·k <
+/// floor`, found from `floor / k` a few ulps either way ([`last_true`]).
+/// NaN fails the test and takes the full path, which flushes it.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Settle {
     flush: f32,
     k: f32,
     /// 0 disables the floor ([`Settle::height`] is then the whole story).
     pub(crate) floor: f32,
-    /// A raw value `v ≤ low_max` ends under the floor ([`Settle::low_max`]).
+    /// A raw value `v ≤ low_max` ends under the floor (see above).
     low_max: f32,
 }
 
 impl Settle {
     pub(crate) fn new(flush: f32, k: f32, floor: f32) -> Self {
+        let by_flush = if flush > f32::NEG_INFINITY {
+            next_down(flush) // `v < flush` is `v ≤ prev(flush)`
+        } else {
+            f32::NEG_INFINITY
+        };
+        let by_floor = last_true(floor / k, |t| t * k < floor);
         Settle {
             flush,
             k,
             floor,
-            low_max: Self::low_max(flush, k, floor),
-        }
-    }
-
-    /// A threshold `T` such that every raw value `v ≤ T` ends under the
-    /// floor (is flushed, or has `v·k < floor`), as large as the two
-    /// conditions allow: the floor shortcut then costs one comparison per
-    /// cell instead of three operations. `v < flush` is `v ≤ prev(flush)`,
-    /// and `v·k` rounds monotonically in `v` (`k > 0`), so every `v` up to
-    /// the largest `t` with `t·k < floor` has it too; `t` is found from
-    /// `floor / k` a few ulps either way. When the search does not settle
-    /// (it always does for finite `k ≥ 1`), `T = −∞`: the shortcut is never
-    /// taken, which is slower but still exact. NaN fails `v ≤ T` and takes
-    /// the full path, which flushes it.
-    fn low_max(flush: f32, k: f32, floor: f32) -> f32 {
-        let by_flush = if flush > f32::NEG_INFINITY {
-            next_down(flush)
-        } else {
-            f32::NEG_INFINITY
-        };
-        let under = |t: f32| t * k < floor;
-        let mut t = floor / k;
-        if t.is_nan() {
-            return by_flush;
-        }
-        let mut steps = 0;
-        while !under(t) && steps < 8 {
-            t = next_down(t);
-            steps += 1;
-        }
-        if !under(t) {
-            return by_flush;
-        }
-        while under(next_up(t)) && steps < 16 {
-            t = next_up(t);
-            steps += 1;
-        }
-        if by_flush > t {
-            by_flush
-        } else {
-            t
+            low_max: fmax(by_flush, by_floor),
         }
     }
 
@@ -496,6 +470,28 @@ impl Settle {
     }
 }
 
+/// The largest float `t` near `start` with `pred(t)`, for a `pred` true on
+/// a down-set of floats (every value under a true one is true); searched a
+/// few ulps either way. −∞ when `start` is NaN or `pred` fails there and a
+/// few ulps under it: the shortcut built on it is then never taken, which
+/// is slower but exact.
+fn last_true(start: f32, pred: impl Fn(f32) -> bool) -> f32 {
+    let mut t = start;
+    let mut steps = 0;
+    while !t.is_nan() && !pred(t) && steps < 8 {
+        t = next_down(t);
+        steps += 1;
+    }
+    if t.is_nan() || !pred(t) {
+        return f32::NEG_INFINITY;
+    }
+    while next_up(t) != t && pred(next_up(t)) && steps < 16 {
+        t = next_up(t);
+        steps += 1;
+    }
+    t
+}
+
 /// The next float towards +∞ (`f32::next_up`, which is newer than the
 /// crate's minimum Rust); NaN and +∞ stay.
 fn next_up(v: f32) -> f32 {
@@ -552,21 +548,47 @@ pub(crate) fn blend(c: bool, a: f32, b: f32) -> f32 {
     f32::from_bits((a.to_bits() & m) | (b.to_bits() & !m))
 }
 
-/// Largest value of a slice, at least 0, NaN ignored; eight independent
-/// select-maxima so that it vectorises.
+/// Independent running maxima of [`raw_max`] and [`scale_max_by`]: four
+/// vectors, so that the sweep is not held up by the latency of a chain of
+/// `maxps` (two vectors read measurably slower).
+const MAX_LANES: usize = 16;
+
+/// Largest value of a slice, at least 0, NaN ignored; [`MAX_LANES`]
+/// independent select-maxima so that it vectorises.
 #[inline]
 pub(crate) fn raw_max(v: &[f32]) -> f32 {
-    let mut lanes = [0.0f32; 8];
-    let chunks = v.chunks_exact(8);
+    let mut lanes = [0.0f32; MAX_LANES];
+    let chunks = v.chunks_exact(MAX_LANES);
     let rest = chunks.remainder();
     for ch in chunks {
-        for l in 0..8 {
+        for l in 0..MAX_LANES {
             lanes[l] = if ch[l] > lanes[l] { ch[l] } else { lanes[l] };
         }
     }
     rest.iter()
         .chain(lanes.iter())
         .fold(0.0f32, |a, &b| if b > a { b } else { a })
+}
+
+/// Multiplies every cell of `v` by `k` and returns [`raw_max`] of the
+/// products, measured in the same sweep: the same value, as a maximum does
+/// not depend on the order it is taken in (and neither selects NaN).
+#[inline]
+pub(crate) fn scale_max_by(v: &mut [f32], k: f32) -> f32 {
+    let mut lanes = [0.0f32; MAX_LANES];
+    let mut vs = v.chunks_exact_mut(MAX_LANES);
+    for c in &mut vs {
+        for l in 0..MAX_LANES {
+            c[l] *= k;
+            lanes[l] = if c[l] > lanes[l] { c[l] } else { lanes[l] };
+        }
+    }
+    let mut m = lanes.iter().fold(0.0f32, |a, &b| if b > a { b } else { a });
+    for c in vs.into_remainder() {
+        *c *= k;
+        m = if *c > m { *c } else { m };
+    }
+    m
 }
 
 #[cfg(test)]

@@ -48,7 +48,7 @@
 //! assert!(g.possibility(c, r) < 0.2);
 //! ```
 
-use super::cells::{as_block, blend, fmax, fmin, raw_max, SETTLE_BLOCK};
+use super::cells::{as_block, blend, fmax, fmin, raw_max, scale_max_by, SETTLE_BLOCK};
 use super::{Combine, FuzzyGrid, GridError, Trapezoid};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::{FRAC_PI_2, PI};
@@ -167,6 +167,31 @@ fn to_col(v: f32, lo: usize, hi: usize) -> usize {
     }
 }
 
+/// `v.floor()` through a truncating conversion: SSE2 has no rounding
+/// instruction, so `f32::floor` is a library call, four per row of every
+/// range update. The same value except the sign of a zero result (which
+/// [`to_col`] does not see); from 2²³ on every float is an integer, and NaN
+/// stays NaN.
+#[inline(always)]
+fn floor(v: f32) -> f32 {
+    if v.abs() < 8_388_608.0 {
+        let t = v as i32 as f32;
+        if t > v {
+            t - 1.0
+        } else {
+            t
+        }
+    } else {
+        v
+    }
+}
+
+/// `v.ceil()` as [`floor`] does it.
+#[inline(always)]
+fn ceil(v: f32) -> f32 {
+    -floor(-v)
+}
+
 /// Columns of a row at vertical distance `dy` from the landmark where the
 /// range trapezoid (support radii `r_in..r_out` around the landmark at `lx`)
 /// can be above its bias: `c_lo..c_hi` minus the hole `h_lo..h_hi`
@@ -186,14 +211,14 @@ fn annulus_cols(
     let ox = (r_out * r_out - dy * dy).max(0.0).sqrt();
     // Column bounds are clamped as floats, so huge readings cannot overflow
     // an integer.
-    let c_lo = to_col(col_of(lx - ox).floor() - 1.0, 0, nx);
-    let c_hi = to_col(col_of(lx + ox).ceil() + 2.0, 0, nx); // exclusive
-                                                            // The hole of the annulus (cells certainly closer than r_in).
+    let c_lo = to_col(floor(col_of(lx - ox)) - 1.0, 0, nx);
+    let c_hi = to_col(ceil(col_of(lx + ox)) + 2.0, 0, nx); // exclusive
+                                                           // The hole of the annulus (cells certainly closer than r_in).
     let (mut h_lo, mut h_hi) = (c_lo, c_lo);
     if dy.abs() < r_in {
         let ix = (r_in * r_in - dy * dy).max(0.0).sqrt();
-        let a = to_col(col_of(lx - ix).ceil() + 1.0, c_lo, c_hi);
-        let b = to_col(col_of(lx + ix).floor(), a, c_hi);
+        let a = to_col(ceil(col_of(lx - ix)) + 1.0, c_lo, c_hi);
+        let b = to_col(floor(col_of(lx + ix)), a, c_hi);
         (h_lo, h_hi) = (a, b);
     }
     (c_lo, c_hi, h_lo, h_hi)
@@ -613,17 +638,31 @@ impl FuzzyGrid {
             s,
             t,
         };
-        let mut raw = 0.0f32;
-        for j in 0..self.ny {
-            let y = self.y0 + (j as f32 + 0.5) * s;
-            let dy = y - ly;
-            let row = &mut self.h[j * self.nx..(j + 1) * self.nx];
+        let row_dy = |j: usize| self.y0 + (j as f32 + 0.5) * s - ly;
+        let nx = self.nx;
+        // The rows off the annulus before its first row and after its last
+        // take the bias in one sweep each, the maximum taken in the same
+        // sweep (product only: `f32::min` is not that select for NaN).
+        let band = |j: usize| row_dy(j).abs() <= r_out;
+        let (first, end) = match combine {
+            Combine::Product => {
+                let first = (0..self.ny).find(|&j| band(j)).unwrap_or(self.ny);
+                let end = (first..self.ny).rev().find(|&j| band(j));
+                (first, end.map_or(first, |j| j + 1))
+            }
+            Combine::Min => (0, self.ny),
+        };
+        let (above, rest) = self.h.split_at_mut(first * nx);
+        let (across, below) = rest.split_at_mut((end - first) * nx);
+        let mut raw = scale_max_by(above, bias).max(scale_max_by(below, bias));
+        for (i, row) in across.chunks_exact_mut(nx).enumerate() {
+            let dy = row_dy(first + i);
             if dy.abs() > r_out {
                 outside(row);
                 raw = raw.max(raw_max(row));
                 continue;
             }
-            let (c_lo, c_hi, h_lo, h_hi) = annulus_cols(self.x0, s, self.nx, lx, dy, r_out, r_in);
+            let (c_lo, c_hi, h_lo, h_hi) = annulus_cols(self.x0, s, nx, lx, dy, r_out, r_in);
             outside(&mut row[..c_lo]);
             outside(&mut row[c_hi..]);
             outside(&mut row[h_lo..h_hi]);
@@ -1054,6 +1093,41 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn floor_and_ceil_match_std() {
+        let mut rnd = crate::grid::test_rng(8u32);
+        let specials = [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            2.5,
+            -2.5,
+            8_388_607.5,
+            -8_388_607.5,
+        ];
+        let wide = [
+            8_388_608.0,
+            1e10,
+            -1e10,
+            f32::MAX,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ];
+        let vals = specials
+            .into_iter()
+            .chain(wide)
+            .chain((0..5000).map(|_| (rnd() - 0.5) * 4e3));
+        for v in vals {
+            // Equal as numbers (a zero may differ in sign), NaN for NaN.
+            assert_eq!(floor(v), v.floor(), "floor({v})");
+            assert_eq!(ceil(v), v.ceil(), "ceil({v})");
+        }
+        assert!(floor(f32::NAN).is_nan() && ceil(f32::NAN).is_nan());
     }
 
     #[test]
