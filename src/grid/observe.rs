@@ -1095,6 +1095,68 @@ mod tests {
         }
     }
 
+    /// The range pass against every cell evaluated by
+    /// [`Trapezoid::linear`], bit for bit: the annulus bounds, the rows
+    /// off it taken in one sweep,
+    /// for biases from 0 to 1, flat and steep flanks, landmarks inside and
+    /// outside the grid, readings from 0 to beyond it, both combinations.
+    #[test]
+    fn range_pass_matches_every_cell() {
+        use crate::grid::{Combine, GridConfig, SensorModel};
+        let mut rnd = crate::grid::test_rng(31_337u32);
+        for combine in [Combine::Product, Combine::Min] {
+            for (bias, slope_abs, slope_rel) in [
+                (0.1, 0.2, 0.15),
+                (0.0, 0.05, 0.0),
+                (0.5, 0.0, 0.0),
+                (1.0, 0.3, 0.1),
+                (0.02, 1.5, 0.4),
+            ] {
+                let range = SensorModel {
+                    core_abs: 0.1,
+                    core_rel: 0.05,
+                    slope_abs,
+                    slope_rel,
+                    bias,
+                };
+                let cfg = GridConfig {
+                    combine,
+                    range,
+                    ..GridConfig::default()
+                };
+                for _ in 0..6 {
+                    let mut g = FuzzyGrid::new(cfg.clone(), [0.0, 0.0, 7.3, 4.9]).unwrap();
+                    for v in g.h.iter_mut() {
+                        *v = rnd();
+                    }
+                    let before = g.h.clone();
+                    let (lx, ly) = (9.0 * rnd() - 1.0, 7.0 * rnd() - 1.0);
+                    let r = 8.0 * rnd() * rnd();
+                    let t = cfg.range.around(r);
+                    g.range_pass(lx, ly, r);
+                    for j in 0..g.ny {
+                        for i in 0..g.nx {
+                            let (x, y) = g.cell_center(i, j);
+                            let (dx, dy) = (lx - x, ly - y);
+                            let f = t.linear((dx * dx + dy * dy).sqrt());
+                            let v = before[j * g.nx + i];
+                            let want = match combine {
+                                Combine::Product => v * f,
+                                Combine::Min => v.min(f),
+                            };
+                            let got = g.h[j * g.nx + i];
+                            assert_eq!(
+                                got.to_bits(),
+                                want.to_bits(),
+                                "cell ({i}, {j}), landmark ({lx}, {ly}), r {r}, bias {bias}: {got} vs {want}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     #[test]
     fn floor_and_ceil_match_std() {
         let mut rnd = crate::grid::test_rng(8u32);
