@@ -73,7 +73,8 @@
 //!   reach is at least 4 samples (below, the offsets are cheaper) and at
 //!   least a quarter of the groups are flat (else the plane is not worth
 //!   computing): low noise everywhere, the worst case of the two shortcuts
-//!   above, so costs the same at every radius.
+//!   above, so costs the same at every radius. A row of groups all flat is
+//!   written as whole rows, without the blocks' bookkeeping.
 //!
 //! Cost: O(cells) for the extrema (and the window maxima, when used), then
 //! per block the offsets it needs — at most the reach `K` (≤ `LEVEL_MAX` =
