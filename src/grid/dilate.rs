@@ -73,7 +73,8 @@
 //!   reach is at least 4 samples (below, the offsets are cheaper) and at
 //!   least a quarter of the groups are flat (else the plane is not worth
 //!   computing): low noise everywhere, the worst case of the two shortcuts
-//!   above, so costs the same at every radius.
+//!   above, so costs the same at every radius. A row of groups all flat is
+//!   written as whole rows, without the blocks' bookkeeping.
 //!
 //! Cost: O(cells) for the extrema (and the window maxima, when used), then
 //! per block the offsets it needs — at most the reach `K` (≤ `LEVEL_MAX` =
@@ -811,6 +812,10 @@ impl FuzzyGrid {
             && kmax >= EXACT_REACH
             && EXACT_SHARE * ub.iter().filter(|&&u| flat(u)).count() >= ub.len();
         let mrow = &mut line_out[..];
+        // A group row whose every chunk is flat: its rows are their window
+        // maxima, cell for cell what the blocks would store, without the
+        // per-block bounds, loads and stores.
+        let all_flat = |g: usize| exact && ub[g * q_n..(g + 1) * q_n].iter().all(|&u| flat(u));
         // A block's bound, or None when both its chunks are left alone.
         let bound = |j: usize, c0: usize| {
             let at = (j / GROUP) * q_n;
@@ -823,6 +828,13 @@ impl FuzzyGrid {
             lp.fill(0.0);
             for (j, row) in h.chunks_exact_mut(nx).enumerate() {
                 if !group_active(j / GROUP) {
+                    continue;
+                }
+                if all_flat(j / GROUP) {
+                    // Every block takes its window maxima: the row at once.
+                    lp[kmax..kmax + nx].copy_from_slice(row);
+                    window_max_padded(lp, kmax, nx.div_ceil(LANES) * LANES, mrow);
+                    row.copy_from_slice(&mrow[..nx]);
                     continue;
                 }
                 let (mut copied, mut maxima) = (false, false);
@@ -896,6 +908,12 @@ impl FuzzyGrid {
                     }
                 }
                 if !group_active(g) {
+                    continue;
+                }
+                if all_flat(g) {
+                    // Every block takes its window maxima: the row at once.
+                    let row = &mut h[j * nx..(j + 1) * nx];
+                    window_max_row(p_now, sp, (nx, ny), kmax, dx, j, row);
                     continue;
                 }
                 let mut maxima = false;

@@ -48,7 +48,7 @@
 //! assert!(g.possibility(c, r) < 0.2);
 //! ```
 
-use super::cells::{blend, fmax, fmin, raw_max, SETTLE_BLOCK};
+use super::cells::{as_block, blend, fmax, fmin, raw_max, scale_max_by, SETTLE_BLOCK};
 use super::{Combine, FuzzyGrid, GridError, Trapezoid};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::{FRAC_PI_2, PI};
@@ -167,6 +167,31 @@ fn to_col(v: f32, lo: usize, hi: usize) -> usize {
     }
 }
 
+/// `v.floor()` through a truncating conversion: SSE2 has no rounding
+/// instruction, so `f32::floor` is a library call, four per row of every
+/// range update. The same value except the sign of a zero result (which
+/// [`to_col`] does not see); from 2²³ on every float is an integer, and NaN
+/// stays NaN.
+#[inline(always)]
+fn floor(v: f32) -> f32 {
+    if v.abs() < 8_388_608.0 {
+        let t = v as i32 as f32;
+        if t > v {
+            t - 1.0
+        } else {
+            t
+        }
+    } else {
+        v
+    }
+}
+
+/// `v.ceil()` as [`floor`] does it.
+#[inline(always)]
+fn ceil(v: f32) -> f32 {
+    -floor(-v)
+}
+
 /// Columns of a row at vertical distance `dy` from the landmark where the
 /// range trapezoid (support radii `r_in..r_out` around the landmark at `lx`)
 /// can be above its bias: `c_lo..c_hi` minus the hole `h_lo..h_hi`
@@ -186,14 +211,14 @@ fn annulus_cols(
     let ox = (r_out * r_out - dy * dy).max(0.0).sqrt();
     // Column bounds are clamped as floats, so huge readings cannot overflow
     // an integer.
-    let c_lo = to_col(col_of(lx - ox).floor() - 1.0, 0, nx);
-    let c_hi = to_col(col_of(lx + ox).ceil() + 2.0, 0, nx); // exclusive
-                                                            // The hole of the annulus (cells certainly closer than r_in).
+    let c_lo = to_col(floor(col_of(lx - ox)) - 1.0, 0, nx);
+    let c_hi = to_col(ceil(col_of(lx + ox)) + 2.0, 0, nx); // exclusive
+                                                           // The hole of the annulus (cells certainly closer than r_in).
     let (mut h_lo, mut h_hi) = (c_lo, c_lo);
     if dy.abs() < r_in {
         let ix = (r_in * r_in - dy * dy).max(0.0).sqrt();
-        let a = to_col(col_of(lx - ix).ceil() + 1.0, c_lo, c_hi);
-        let b = to_col(col_of(lx + ix).floor(), a, c_hi);
+        let a = to_col(ceil(col_of(lx - ix)) + 1.0, c_lo, c_hi);
+        let b = to_col(floor(col_of(lx + ix)), a, c_hi);
         (h_lo, h_hi) = (a, b);
     }
     (c_lo, c_hi, h_lo, h_hi)
@@ -613,17 +638,31 @@ impl FuzzyGrid {
             s,
             t,
         };
-        let mut raw = 0.0f32;
-        for j in 0..self.ny {
-            let y = self.y0 + (j as f32 + 0.5) * s;
-            let dy = y - ly;
-            let row = &mut self.h[j * self.nx..(j + 1) * self.nx];
+        let row_dy = |j: usize| self.y0 + (j as f32 + 0.5) * s - ly;
+        let nx = self.nx;
+        // The rows off the annulus before its first row and after its last
+        // take the bias in one sweep each, the maximum taken in the same
+        // sweep (product only: `f32::min` is not that select for NaN).
+        let band = |j: usize| row_dy(j).abs() <= r_out;
+        let (first, end) = match combine {
+            Combine::Product => {
+                let first = (0..self.ny).find(|&j| band(j)).unwrap_or(self.ny);
+                let end = (first..self.ny).rev().find(|&j| band(j));
+                (first, end.map_or(first, |j| j + 1))
+            }
+            Combine::Min => (0, self.ny),
+        };
+        let (above, rest) = self.h.split_at_mut(first * nx);
+        let (across, below) = rest.split_at_mut((end - first) * nx);
+        let mut raw = scale_max_by(above, bias).max(scale_max_by(below, bias));
+        for (i, row) in across.chunks_exact_mut(nx).enumerate() {
+            let dy = row_dy(first + i);
             if dy.abs() > r_out {
                 outside(row);
                 raw = raw.max(raw_max(row));
                 continue;
             }
-            let (c_lo, c_hi, h_lo, h_hi) = annulus_cols(self.x0, s, self.nx, lx, dy, r_out, r_in);
+            let (c_lo, c_hi, h_lo, h_hi) = annulus_cols(self.x0, s, nx, lx, dy, r_out, r_in);
             outside(&mut row[..c_lo]);
             outside(&mut row[c_hi..]);
             outside(&mut row[h_lo..h_hi]);
@@ -729,35 +768,39 @@ impl FuzzyGrid {
                 }
                 *k != 0.0
             };
-            let mut hs = h[r.clone()].chunks_exact_mut(SETTLE_BLOCK);
-            let mut bs = bias[r.clone()].chunks_exact_mut(SETTLE_BLOCK);
-            let mut ds = delta[r.clone()].chunks_exact_mut(SETTLE_BLOCK);
-            let mut ks = kept.chunks_exact_mut(SETTLE_BLOCK);
             let mut any = false;
-            for (((hb, bb), db), kb) in (&mut hs).zip(&mut bs).zip(&mut ds).zip(&mut ks) {
-                if st.floor > 0.0 && st.all_under_floor(hb) {
-                    st.put_at_floor(hb, bb, db);
-                    kb.fill(0.0);
-                    continue;
+            kept.fill(0.0); // the cells put at the floor stay unmarked
+            let (hr, br, dr) = (
+                &mut h[r.clone()],
+                &mut bias[r.clone()],
+                &mut delta[r.clone()],
+            );
+            let mut others = |h: &mut [f32], b: &mut [f32], d: &mut [f32], at: usize| {
+                let k = &mut kept[at..at + h.len()];
+                match (as_block(h), as_block(b), as_block(d), as_block(k)) {
+                    // Fixed-length loop: the form that vectorises.
+                    (Some(hb), Some(bb), Some(db), Some(kb)) => {
+                        for i in 0..SETTLE_BLOCK {
+                            any |= settle(&mut hb[i], &mut bb[i], &mut db[i], &mut kb[i]);
+                        }
+                    }
+                    _ => {
+                        let cells = h.iter_mut().zip(b.iter_mut()).zip(d.iter_mut());
+                        for (((h, b), d), k) in cells.zip(k.iter_mut()) {
+                            any |= settle(h, b, d, k);
+                        }
+                    }
                 }
-                let (hb, bb): (&mut [f32; SETTLE_BLOCK], &mut [f32; SETTLE_BLOCK]) = (
-                    hb.try_into().expect("a block"),
-                    bb.try_into().expect("a block"),
-                );
-                let (db, kb): (&mut [f32; SETTLE_BLOCK], &mut [f32; SETTLE_BLOCK]) = (
-                    db.try_into().expect("a block"),
-                    kb.try_into().expect("a block"),
-                );
-                for i in 0..SETTLE_BLOCK {
-                    any |= settle(&mut hb[i], &mut bb[i], &mut db[i], &mut kb[i]);
+            };
+            if st.floor > 0.0 {
+                st.settle_chunks(hr, br, dr, others);
+            } else {
+                let blocks = (hr.chunks_mut(SETTLE_BLOCK))
+                    .zip(br.chunks_mut(SETTLE_BLOCK))
+                    .zip(dr.chunks_mut(SETTLE_BLOCK));
+                for (i, ((hb, bb), db)) in blocks.enumerate() {
+                    others(hb, bb, db, i * SETTLE_BLOCK);
                 }
-            }
-            let rest = (hs.into_remainder().iter_mut())
-                .zip(bs.into_remainder())
-                .zip(ds.into_remainder())
-                .zip(ks.into_remainder());
-            for (((h, b), d), k) in rest {
-                any |= settle(h, b, d, k);
             }
             if !any {
                 continue;
@@ -1050,6 +1093,103 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The range pass against every cell evaluated by
+    /// [`Trapezoid::linear`], bit for bit: the annulus bounds, the rows
+    /// off it taken in one sweep,
+    /// for biases from 0 to 1, flat and steep flanks, landmarks inside and
+    /// outside the grid, readings from 0 to beyond it, both combinations.
+    #[test]
+    fn range_pass_matches_every_cell() {
+        use crate::grid::{Combine, GridConfig, SensorModel};
+        let mut rnd = crate::grid::test_rng(31_337u32);
+        for combine in [Combine::Product, Combine::Min] {
+            for (bias, slope_abs, slope_rel) in [
+                (0.1, 0.2, 0.15),
+                (0.0, 0.05, 0.0),
+                (0.5, 0.0, 0.0),
+                (1.0, 0.3, 0.1),
+                (0.02, 1.5, 0.4),
+            ] {
+                let range = SensorModel {
+                    core_abs: 0.1,
+                    core_rel: 0.05,
+                    slope_abs,
+                    slope_rel,
+                    bias,
+                };
+                let cfg = GridConfig {
+                    combine,
+                    range,
+                    ..GridConfig::default()
+                };
+                for _ in 0..6 {
+                    let mut g = FuzzyGrid::new(cfg.clone(), [0.0, 0.0, 7.3, 4.9]).unwrap();
+                    for v in g.h.iter_mut() {
+                        *v = rnd();
+                    }
+                    let before = g.h.clone();
+                    let (lx, ly) = (9.0 * rnd() - 1.0, 7.0 * rnd() - 1.0);
+                    let r = 8.0 * rnd() * rnd();
+                    let t = cfg.range.around(r);
+                    g.range_pass(lx, ly, r);
+                    for j in 0..g.ny {
+                        for i in 0..g.nx {
+                            let (x, y) = g.cell_center(i, j);
+                            let (dx, dy) = (lx - x, ly - y);
+                            let f = t.linear((dx * dx + dy * dy).sqrt());
+                            let v = before[j * g.nx + i];
+                            let want = match combine {
+                                Combine::Product => v * f,
+                                Combine::Min => v.min(f),
+                            };
+                            let got = g.h[j * g.nx + i];
+                            assert_eq!(
+                                got.to_bits(),
+                                want.to_bits(),
+                                "cell ({i}, {j}), landmark ({lx}, {ly}), r {r}, bias {bias}: {got} vs {want}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn floor_and_ceil_match_std() {
+        let mut rnd = crate::grid::test_rng(8u32);
+        let specials = [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            2.5,
+            -2.5,
+            8_388_607.5,
+            -8_388_607.5,
+        ];
+        let wide = [
+            8_388_608.0,
+            1e10,
+            -1e10,
+            f32::MAX,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ];
+        let vals = specials
+            .into_iter()
+            .chain(wide)
+            .chain((0..5000).map(|_| (rnd() - 0.5) * 4e3));
+        for v in vals {
+            // Equal as numbers (a zero may differ in sign), NaN for NaN.
+            assert_eq!(floor(v), v.floor(), "floor({v})");
+            assert_eq!(ceil(v), v.ceil(), "ceil({v})");
+        }
+        assert!(floor(f32::NAN).is_nan() && ceil(f32::NAN).is_nan());
     }
 
     #[test]
