@@ -213,7 +213,8 @@ fn annulus_cols(
     // an integer.
     let c_lo = to_col(floor(col_of(lx - ox)) - 1.0, 0, nx);
     let c_hi = to_col(ceil(col_of(lx + ox)) + 2.0, 0, nx); // exclusive
-                                                           // The hole of the annulus (cells certainly closer than r_in).
+
+    // The hole of the annulus (cells certainly closer than r_in).
     let (mut h_lo, mut h_hi) = (c_lo, c_lo);
     if dy.abs() < r_in {
         let ix = (r_in * r_in - dy * dy).max(0.0).sqrt();
