@@ -8,6 +8,14 @@
 //! first is exact for the blur — the sup-min sum of two trapezoid elements is
 //! the trapezoid element with summed radii — and it keeps sub-cell motions
 //! from being lost: a radius below one cell is carried over, not dropped.
+//! A radius of a cell or more is applied and consumed even when it is too
+//! small for the octagon's 1-D passes to reach a neighbour (each pass gets
+//! ≈ 0.41 of it, the diagonal ones ≈ 0.29 of a diagonal step: below ≈ 2.4
+//! cells the dilation is the identity), so such a radius has no effect — on
+//! MRCLAM, read once a second, the blur never acts. Carrying it over until
+//! the passes act was measured and made MRCLAM's ATE worse (a belief that
+//! spreads follows biased readings; `docs/compare.md`), so the behaviour is
+//! kept, and stated here.
 //!
 //! Applying the pending motion:
 //! 1. If the heading estimate is reliable (`R̄ ≥ directed_min_reliability`),
@@ -181,6 +189,8 @@ impl FuzzyGrid {
             flank[1] += f;
         }
         self.widen_headings(widen);
+        // Consumed from one cell on, whether or not the passes reach a
+        // neighbour (module docs).
         let reach = |k: usize| core[k] + flank[k] >= self.cell;
         if reach(0) || reach(1) {
             self.dilate_xy(core, flank);
