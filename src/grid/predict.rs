@@ -11,8 +11,8 @@
 //! A radius of a cell or more is applied and consumed even when it is too
 //! small for the octagon's 1-D passes to reach a neighbour (each pass gets
 //! ≈ 0.41 of it, the diagonal ones ≈ 0.29 of a diagonal step: below ≈ 2.4
-//! cells the dilation is the identity), so such a radius has no effect — on
-//! MRCLAM, read once a second, the blur never acts. Carrying it over until
+//! cells the dilation is the identity), so such a radius has no effect — at
+//! MRCLAM's step sizes the blur hardly ever acts. Carrying it over until
 //! the passes act was measured and made MRCLAM's ATE worse (a belief that
 //! spreads follows biased readings; `docs/compare.md`), so the behaviour is
 //! kept, and stated here.
