@@ -32,14 +32,9 @@ fn bundled_configuration_is_the_default() {
 
 #[test]
 fn mrclam_fusion_gives_finite_errors() {
-    let dir = data_dir();
-    if !dir.join("Robot1_Measurement.dat").exists() {
-        eprintln!(
-            "SKIPPED: MRCLAM dataset 7 not found at {} (set LPLACE_DATA)",
-            dir.display()
-        );
+    let Some(dir) = mrclam_dir() else {
         return;
-    }
+    };
     let data = lplace::io::mrclam_dir::load(&dir, &[1, 2, 3, 4, 5]).unwrap();
     assert!(data.skipped.is_empty(), "{:?}", data.skipped);
     let table = survey_landmarks(data.survey().unwrap()).unwrap();

@@ -191,14 +191,9 @@ fn tum_round_trip_and_errors() {
 
 #[test]
 fn mrclam_robot1_ate_is_locked_in() {
-    let dir = data_dir();
-    if !dir.join("Robot1_Measurement.dat").exists() {
-        eprintln!(
-            "SKIPPED: MRCLAM dataset 7 not found at {} (set LPLACE_DATA)",
-            dir.display()
-        );
+    let Some(dir) = mrclam_dir() else {
         return;
-    }
+    };
     let data = lplace::io::mrclam_dir::load(&dir, &[1]).unwrap();
     assert!(data.skipped.is_empty(), "{:?}", data.skipped);
     assert_eq!(data.survey().unwrap().len(), 15);
