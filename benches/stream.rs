@@ -9,14 +9,19 @@
 //!   engine step, the tracker (or not), the summary tally and a short JSON line written to a sink;
 //! - `eval_tracked_read_ahead`: the same with the reading on a second thread, as `lplace eval`
 //!   does when it has two cores;
+//! - `office_stream_200k_read`: the stream reader alone on the first 200,000 records, with its
+//!   JSON fast path (`reader_fast`) and without it (`reader_serde`), and serde_json into the
+//!   owned record type plus `FrameRecord::fill` (`serde_record_fill`), all in the same run;
 //! - `cli_eval_tracked`: the `lplace eval` binary itself on the stream written to a temporary
 //!   file, decisions to a null sink (process start included, a few milliseconds).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use lplace::engine::tracker::{Tracker, TrackerConfig};
-use lplace::engine::Engine;
+use lplace::engine::{Engine, Frame};
 use lplace::io::record::FrameRecord;
-use lplace::io::stream::{read_records, Record, Schema, StreamFormat, StreamReader, Threads};
+use lplace::io::stream::{
+    read_records, FrameMeta, ReadOutcome, Record, Schema, StreamFormat, StreamReader, Threads,
+};
 use lplace::logic::DecisionParams;
 use lplace::report::Tally;
 use lplace::sim::{SimConfig, Simulator};
@@ -84,6 +89,62 @@ fn eval(engine: &mut Engine, bytes: &[u8], track: bool, threads: Threads) -> u64
     n
 }
 
+/// Frames every record of `bytes` through the stream reader alone (no engine), with the JSON
+/// fast path on or off.
+fn read_only(engine: &Engine, bytes: &[u8], fast: bool) -> u64 {
+    let schema = Schema::new(engine.percepts(), engine.map());
+    let mut frame = Frame::new(schema.slots());
+    let mut meta = FrameMeta::default();
+    let mut reader = StreamReader::new(bytes, schema, StreamFormat::JsonLines);
+    reader.set_fast_path(fast);
+    let mut n = 0;
+    while let Ok(got) = reader.next_frame(&mut frame, &mut meta) {
+        match got {
+            ReadOutcome::Frame => n += 1,
+            ReadOutcome::Rejected(_) => {}
+            ReadOutcome::End => break,
+        }
+    }
+    n
+}
+
+/// The reader's two JSON paths on the same 200,000 records, in one run: the hand-written
+/// scanner (`fast`, the default) and the serde seed that words rejections (`serde`), next to
+/// `serde_json` into the owned record type and `FrameRecord::fill`.
+fn bench_paths(c: &mut Criterion) {
+    let engine = Engine::office().expect("bundled office example loads");
+    let all = stream(&engine);
+    let cut = all
+        .iter()
+        .enumerate()
+        .filter(|(_, &b)| b == b'\n')
+        .nth(199_999)
+        .map_or(all.len(), |(i, _)| i + 1);
+    let bytes = &all[..cut];
+    let mut g = c.benchmark_group("office_stream_200k_read");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(200_000));
+    g.bench_function("reader_fast", |b| {
+        b.iter(|| black_box(read_only(&engine, bytes, true)))
+    });
+    g.bench_function("reader_serde", |b| {
+        b.iter(|| black_box(read_only(&engine, bytes, false)))
+    });
+    let table = engine.percepts().clone();
+    g.bench_function("serde_record_fill", |b| {
+        let mut frame = engine.new_frame();
+        let mut rejected = Vec::new();
+        b.iter(|| {
+            for line in bytes.split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
+                let rec: FrameRecord = serde_json::from_slice(line).expect("valid record");
+                rec.fill(&table, &mut frame, &mut rejected);
+            }
+            black_box(frame.degree[0])
+        })
+    });
+    g.finish();
+}
+
 fn bench(c: &mut Criterion) {
     let mut engine = Engine::office().expect("bundled office example loads");
     let bytes = stream(&engine);
@@ -139,5 +200,5 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group!(benches, bench_paths, bench);
 criterion_main!(benches);

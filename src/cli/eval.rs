@@ -19,7 +19,7 @@ use crate::logic::{Decision, DecisionParams, PlaceDistribution};
 use crate::report::summary::reason_name;
 use crate::report::trajectory::{self, TrajectoryPoint, Verdict};
 use crate::report::{RunPlot, Tally};
-use std::io::{BufRead, BufReader, IsTerminal, Write};
+use std::io::{BufRead, IsTerminal, Write};
 
 /// The bundled office recording (made by `lplace simulate`, see docs/streams.md).
 pub const OFFICE_RECORDING: &str = include_str!("../../recordings/office.jsonl");
@@ -340,26 +340,9 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
             Box::new(OFFICE_RECORDING.as_bytes()),
             None,
         ),
-        Some(p) if p.as_os_str() == "-" => (
-            "<stdin>".into(),
-            Box::new(BufReader::with_capacity(1 << 16, std::io::stdin())),
-            None,
-        ),
         Some(p) => {
-            let read_err = |source| CliError::Read {
-                path: p.display().to_string(),
-                source,
-            };
-            let f = std::fs::File::open(p).map_err(read_err)?;
-            let meta = f.metadata().map_err(read_err)?;
-            if meta.is_dir() {
-                return Err(read_err(std::io::Error::other("is a directory")));
-            }
-            (
-                p.display().to_string(),
-                Box::new(BufReader::with_capacity(1 << 16, f)),
-                Some(meta.len()),
-            )
+            let s = super::stream_input::open(p)?;
+            (s.name, s.input, s.size)
         }
     };
     let format = match (args.input, &args.stream) {
@@ -432,7 +415,7 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
         |record| {
             match record {
                 Record::Rejected(e) => {
-                    let msg = format!("{name}:{e}");
+                    let msg = super::stream_input::rejection(&name, &e);
                     match &progress {
                         Some(bar) => bar.suspend(|| eprintln!("{msg}")),
                         None => eprintln!("{msg}"),

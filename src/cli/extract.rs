@@ -172,17 +172,9 @@ pub(super) fn load_mrclam(
     let Some(log) = data.robots.first() else {
         return Err(CliError::Diagnostics { count: 1 });
     };
-    let names: std::collections::BTreeMap<u32, String> = map
-        .landmarks()
-        .iter()
-        .filter_map(|l| Some((u32::try_from(l.id?).ok()?, l.name.clone())))
-        .collect();
-    // Subjects 1–5 are the robots (data set README); anything else not in the map keeps its id.
-    let name_of = |id: u32| match names.get(&id) {
-        Some(n) => n.clone(),
-        None if (1..=5).contains(&id) => format!("Robot{id}"),
-        None => format!("S{id}"),
-    };
+    let names = crate::io::landmark_stream::landmark_names(map);
+    // The names a landmark stream's schema expects (`io::landmark_stream`).
+    let name_of = |id: u32| crate::io::landmark_stream::subject_name(&names, id);
     let place_at = |x: f64, y: f64| {
         map.places()
             .iter()

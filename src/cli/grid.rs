@@ -6,13 +6,14 @@
 //!
 //! Landmark positions come from the map's `landmark … id N` lines, so the stream's
 //! `landmark_range(NAME)` percepts are resolved by name. With no `--map`, the bundled
-//! `maps/mrclam.map` is used. Malformed stream lines are reported on stderr as STREAM:LINE and
-//! skipped (exit 3 at the end).
+//! `maps/mrclam.map` is used. The stream is read by the same reader as `lplace eval`'s
+//! (`io::landmark_stream`): rejected records are reported on stderr as STREAM:LINE: reason and
+//! skipped (exit 3 at the end). A `.csv` stream is read as CSV.
 //!
 //! The input half (`FrameInput`, `load_frames`), the kidnap flags, configuration reading and
 //! TUM writing are shared with `lplace compare`, so both commands read and write alike.
 
-use std::io::{BufRead, BufReader, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
@@ -21,9 +22,10 @@ use crate::grid::run::{
     run as run_grid, FrameEstimate, GridLocalizer, Kidnap, Recovery, RunOptions, RunReport,
 };
 use crate::grid::{FuzzyGrid, GridConfig, LandmarkTable};
+use crate::io::landmark_stream;
 use crate::io::mrclam::MetricFrame;
 use crate::io::mrclam_stream::RecordReader;
-use crate::io::record::FrameRecord;
+use crate::io::stream::{StreamFormat, StreamReader};
 use crate::io::tum::{write_tum, TumPose};
 use crate::localize::Drive;
 use crate::map::Map;
@@ -41,8 +43,8 @@ pub struct FrameInput {
     /// maps/mrclam.map.
     #[arg(long, value_name = "MAP")]
     pub map: Option<PathBuf>,
-    /// Percept stream (JSON lines) with landmark_range/landmark_bearing percepts; `-` reads
-    /// stdin. Not needed with --from-dir.
+    /// Percept stream (JSON lines; CSV when it ends in .csv) with landmark_range/
+    /// landmark_bearing percepts; `-` reads stdin. Not needed with --from-dir.
     #[arg(value_name = "STREAM", required_unless_present = "from_dir")]
     pub stream: Option<PathBuf>,
     /// Read MRCLAM robot files from this directory instead of a stream (needs --robot).
@@ -121,36 +123,30 @@ pub(super) fn bad(msg: impl std::fmt::Display) -> CliError {
     CliError::Diagnostics { count: 1 }
 }
 
-/// Reads the stream's records; malformed lines are reported and counted.
-fn read_stream(path: &Path) -> Result<(Vec<FrameRecord>, usize), CliError> {
-    let name = path.display().to_string();
-    let reader: Box<dyn BufRead> = if name == "-" {
-        Box::new(BufReader::new(std::io::stdin()))
-    } else {
-        let f = std::fs::File::open(path).map_err(|source| CliError::Read {
-            path: name.clone(),
-            source,
-        })?;
-        Box::new(BufReader::new(f))
-    };
-    let (mut out, mut rejected) = (Vec::new(), 0);
-    for (k, line) in reader.lines().enumerate() {
-        let line = line.map_err(|source| CliError::Read {
-            path: name.clone(),
-            source,
-        })?;
-        if line.trim().is_empty() {
-            continue;
-        }
-        match FrameRecord::parse(&line) {
-            Ok(r) => out.push(r),
-            Err(e) => {
-                eprintln!("{name}:{}: {e}", k + 1);
-                rejected += 1;
-            }
-        }
-    }
-    Ok((out, rejected))
+/// Reads a landmark stream through the one stream reader ([`landmark_stream`]); each
+/// rejected record is reported on stderr as STREAM:LINE and counted.
+fn read_stream(
+    path: &Path,
+    map: &Map,
+    conv: &mut RecordReader,
+) -> Result<(Vec<MetricFrame>, usize), CliError> {
+    let stream = super::stream_input::open(path)?;
+    let reader = StreamReader::new(
+        stream.input,
+        landmark_stream::schema(map),
+        StreamFormat::from_path(path),
+    );
+    let mut rejected = 0;
+    let name = stream.name;
+    let frames = landmark_stream::read_frames(reader, conv, |e| {
+        eprintln!("{}", super::stream_input::rejection(&name, &e));
+        rejected += 1;
+    })
+    .map_err(|source| CliError::Read {
+        path: name.clone(),
+        source,
+    })?;
+    Ok((frames, rejected))
 }
 
 /// Runs `grid`: scores to `out`, problems to stderr.
@@ -225,17 +221,18 @@ pub(super) fn load_frames(input: &FrameInput) -> Result<LoadedFrames, CliError> 
     if table.landmarks().is_empty() {
         return Err(bad("the map has no landmark with an id"));
     }
-    let (records, rejected) = match (&input.from_dir, &input.stream) {
-        (Some(dir), _) => {
-            let robot = input.robot.ok_or_else(|| bad("--from-dir needs --robot"))?;
-            super::extract::load_mrclam(dir, robot, &map)?
-        }
-        (None, Some(path)) => read_stream(path)?,
-        (None, None) => return Err(bad("no STREAM given")),
-    };
     let mut reader = RecordReader::new(names);
     reader.min_degree = input.min_degree;
-    let frames: Vec<MetricFrame> = records.iter().map(|r| reader.convert(r)).collect();
+    let (frames, rejected) = match (&input.from_dir, &input.stream) {
+        (Some(dir), _) => {
+            let robot = input.robot.ok_or_else(|| bad("--from-dir needs --robot"))?;
+            let (records, rejected) = super::extract::load_mrclam(dir, robot, &map)?;
+            let frames = records.iter().map(|r| reader.convert(r)).collect();
+            (frames, rejected)
+        }
+        (None, Some(path)) => read_stream(path, &map, &mut reader)?,
+        (None, None) => return Err(bad("no STREAM given")),
+    };
     Ok(LoadedFrames {
         table,
         frames,

@@ -24,6 +24,7 @@ mod fuse;
 mod grid;
 mod render;
 mod simulate;
+mod stream_input;
 
 use std::io::Write;
 use std::process::ExitCode;

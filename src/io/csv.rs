@@ -68,6 +68,64 @@ fn split_instance(s: &str) -> Option<(&str, Vec<&str>)> {
     }
 }
 
+/// The fixed (non-percept) column a header cell names, if any.
+fn fixed_col(cell: &str) -> Option<Col> {
+    Some(match cell {
+        "version" => Col::Version,
+        "t" => Col::T,
+        "dx" => Col::Dx,
+        "dy" => Col::Dy,
+        "dtheta" => Col::Dtheta,
+        "heading" => Col::Heading,
+        "truth_place" => Col::TruthPlace,
+        "truth_x" => Col::TruthX,
+        "truth_y" => Col::TruthY,
+        "truth_theta" => Col::TruthTheta,
+        _ => return None,
+    })
+}
+
+/// One data row split into cells (byte ranges into `text`).
+struct Row<'a> {
+    text: &'a str,
+    fields: &'a [(usize, usize)],
+}
+
+impl Row<'_> {
+    fn cell(&self, i: usize) -> &str {
+        let (a, b) = self.fields[i];
+        self.text[a..b].trim()
+    }
+
+    /// Cell `i` as a number; `None` when empty, or when not a number (then the problem is kept
+    /// in `problem` unless one is there already).
+    fn num(&self, i: usize, problem: &mut Option<Rejection>) -> Option<f64> {
+        let c = self.cell(i);
+        if c.is_empty() {
+            return None;
+        }
+        match c.parse::<f64>() {
+            Ok(v) => Some(v),
+            Err(_) => {
+                if problem.is_none() {
+                    *problem = Some(Rejection::Malformed {
+                        column: self.fields[i].0 + 1,
+                        message: format!("`{c}` is not a number"),
+                    });
+                }
+                None
+            }
+        }
+    }
+}
+
+/// Keeps `r` in `problem` unless an earlier problem is there.
+fn first(problem: &mut Option<Rejection>, r: impl FnOnce() -> Rejection) {
+    if problem.is_none() {
+        *problem = Some(r());
+    }
+}
+
 impl CsvLayout {
     /// Resolves a header row; returns the layout and the problems found in it.
     pub fn from_header(line: &[u8], schema: &Schema) -> (CsvLayout, Vec<Rejection>) {
@@ -80,83 +138,12 @@ impl CsvLayout {
         let mut problems = Vec::new();
         for cell in text.split(',') {
             let cell = cell.trim();
-            let col = match cell {
-                "version" => Col::Version,
-                "t" => Col::T,
-                "dx" => Col::Dx,
-                "dy" => Col::Dy,
-                "dtheta" => Col::Dtheta,
-                "heading" => Col::Heading,
-                "truth_place" => Col::TruthPlace,
-                "truth_x" => Col::TruthX,
-                "truth_y" => Col::TruthY,
-                "truth_theta" => Col::TruthTheta,
-                _ => {
-                    let (is_degree, rest) = if let Some(r) = cell.strip_prefix("deg:") {
-                        (true, r)
-                    } else if let Some(r) = cell.strip_prefix("val:") {
-                        (false, r)
-                    } else {
-                        problems.push(Rejection::CsvColumn {
-                            column: cell.to_string(),
-                            reason: "not a known column (deg:…, val:…, t, dx, dy, dtheta, heading, truth_…)",
-                        });
-                        layout.cols.push(Col::Ignored);
-                        continue;
-                    };
-                    let Some((name, args)) = split_instance(rest) else {
-                        problems.push(Rejection::CsvColumn {
-                            column: cell.to_string(),
-                            reason: "unbalanced parentheses",
-                        });
-                        layout.cols.push(Col::Ignored);
-                        continue;
-                    };
-                    if schema.lookup(name, &args).is_none() {
-                        problems.push(Rejection::UnknownPercept {
-                            instance: crate::io::stream::instance_name(name, &args),
-                        });
-                        layout.cols.push(Col::Ignored);
-                        continue;
-                    }
-                    let k = match layout
-                        .percepts
-                        .iter()
-                        .position(|p| p.name == name && p.args == args)
-                    {
-                        Some(k) => k,
-                        None => {
-                            layout.percepts.push(PerceptCols {
-                                name: name.to_string(),
-                                args: args.iter().map(|a| a.to_string()).collect(),
-                                degree: None,
-                                value: None,
-                            });
-                            layout.percepts.len() - 1
-                        }
-                    };
-                    let i = layout.cols.len();
-                    let p = &mut layout.percepts[k];
-                    let slot = if is_degree {
-                        &mut p.degree
-                    } else {
-                        &mut p.value
-                    };
-                    if slot.is_some() {
-                        problems.push(Rejection::CsvColumn {
-                            column: cell.to_string(),
-                            reason: "repeated column",
-                        });
-                        layout.cols.push(Col::Ignored);
-                        continue;
-                    }
-                    *slot = Some(i);
-                    if is_degree {
-                        Col::Degree(k)
-                    } else {
-                        Col::Value(k)
-                    }
-                }
+            let col = match fixed_col(cell) {
+                Some(col) => col,
+                None => layout.percept_col(cell, schema).unwrap_or_else(|r| {
+                    problems.push(r);
+                    Col::Ignored
+                }),
             };
             if matches!(
                 col,
@@ -167,6 +154,61 @@ impl CsvLayout {
             layout.cols.push(col);
         }
         (layout, problems)
+    }
+
+    /// Resolves a `deg:…` or `val:…` header cell (the next column), registering its percept.
+    fn percept_col(&mut self, cell: &str, schema: &Schema) -> Result<Col, Rejection> {
+        let column = |reason| Rejection::CsvColumn {
+            column: cell.to_string(),
+            reason,
+        };
+        let (is_degree, rest) = if let Some(r) = cell.strip_prefix("deg:") {
+            (true, r)
+        } else if let Some(r) = cell.strip_prefix("val:") {
+            (false, r)
+        } else {
+            return Err(column(
+                "not a known column (deg:…, val:…, t, dx, dy, dtheta, heading, truth_…)",
+            ));
+        };
+        let (name, args) = split_instance(rest).ok_or_else(|| column("unbalanced parentheses"))?;
+        if schema.lookup(name, &args).is_none() {
+            return Err(Rejection::UnknownPercept {
+                instance: crate::io::stream::instance_name(name, &args),
+            });
+        }
+        let k = match self
+            .percepts
+            .iter()
+            .position(|p| p.name == name && p.args == args)
+        {
+            Some(k) => k,
+            None => {
+                self.percepts.push(PerceptCols {
+                    name: name.to_string(),
+                    args: args.iter().map(|a| a.to_string()).collect(),
+                    degree: None,
+                    value: None,
+                });
+                self.percepts.len() - 1
+            }
+        };
+        let i = self.cols.len();
+        let p = &mut self.percepts[k];
+        let slot = if is_degree {
+            &mut p.degree
+        } else {
+            &mut p.value
+        };
+        if slot.is_some() {
+            return Err(column("repeated column"));
+        }
+        *slot = Some(i);
+        Ok(if is_degree {
+            Col::Degree(k)
+        } else {
+            Col::Value(k)
+        })
     }
 
     /// Parses one data row into `frame` and `meta`; the first problem goes to `problem`.
@@ -189,6 +231,7 @@ impl CsvLayout {
                 return;
             }
         };
+        // The cell ranges live in the scratch space; taken out while `scratch` marks slots.
         let mut fields = std::mem::take(&mut scratch.fields);
         fields.clear();
         let mut start = 0;
@@ -199,7 +242,14 @@ impl CsvLayout {
             }
         }
         fields.push((start, text.len()));
-        if fields.len() != self.cols.len() {
+        if fields.len() == self.cols.len() {
+            let row = Row {
+                text,
+                fields: &fields,
+            };
+            self.read_meta(&row, schema, meta, problem);
+            self.read_percepts(&row, schema, scratch, frame, problem);
+        } else {
             *problem = Some(Rejection::Malformed {
                 column: 1,
                 message: format!(
@@ -208,67 +258,50 @@ impl CsvLayout {
                     self.cols.len()
                 ),
             });
-            scratch.fields = fields;
-            return;
         }
-        let cell = |i: usize| {
-            let (a, b) = fields[i];
-            text[a..b].trim()
-        };
-        let num = |i: usize, problem: &mut Option<Rejection>| -> Option<f64> {
-            let c = cell(i);
-            if c.is_empty() {
-                return None;
-            }
-            match c.parse::<f64>() {
-                Ok(v) => Some(v),
-                Err(_) => {
-                    if problem.is_none() {
-                        *problem = Some(Rejection::Malformed {
-                            column: fields[i].0 + 1,
-                            message: format!("`{c}` is not a number"),
-                        });
-                    }
-                    None
-                }
-            }
-        };
+        scratch.fields = fields;
+    }
+
+    /// Reads the row's non-percept cells, in column order.
+    fn read_meta(
+        &self,
+        row: &Row<'_>,
+        schema: &Schema,
+        meta: &mut FrameMeta,
+        problem: &mut Option<Rejection>,
+    ) {
         meta.truth_known = self.has_truth;
         let mut pose = [f64::NAN, f64::NAN, 0.0];
         let mut has_pose = false;
         for (i, col) in self.cols.iter().enumerate() {
             match col {
                 Col::Version => {
-                    if let Some(v) = num(i, problem) {
-                        if v != FORMAT_VERSION as f64 && problem.is_none() {
-                            *problem = Some(Rejection::Version {
+                    if let Some(v) = row.num(i, problem) {
+                        if v != FORMAT_VERSION as f64 {
+                            first(problem, || Rejection::Version {
                                 found: if v >= 0.0 { v as u64 } else { 0 },
                             });
                         }
                     }
                 }
-                Col::T => meta.t = num(i, problem),
-                Col::Dx => meta.odometry.dx = num(i, problem).unwrap_or(0.0),
-                Col::Dy => meta.odometry.dy = num(i, problem).unwrap_or(0.0),
-                Col::Dtheta => meta.odometry.dtheta = num(i, problem).unwrap_or(0.0),
-                Col::Heading => meta.heading = num(i, problem),
+                Col::T => meta.t = row.num(i, problem),
+                Col::Dx => meta.odometry.dx = row.num(i, problem).unwrap_or(0.0),
+                Col::Dy => meta.odometry.dy = row.num(i, problem).unwrap_or(0.0),
+                Col::Dtheta => meta.odometry.dtheta = row.num(i, problem).unwrap_or(0.0),
+                Col::Heading => meta.heading = row.num(i, problem),
                 Col::TruthPlace => {
-                    let c = cell(i);
+                    let c = row.cell(i);
                     if !c.is_empty() {
                         match schema.place(c) {
                             Some(p) => meta.truth_place = Some(p),
-                            None => {
-                                if problem.is_none() {
-                                    *problem = Some(Rejection::UnknownTruthPlace {
-                                        name: c.to_string(),
-                                    });
-                                }
-                            }
+                            None => first(problem, || Rejection::UnknownTruthPlace {
+                                name: c.to_string(),
+                            }),
                         }
                     }
                 }
                 Col::TruthX | Col::TruthY | Col::TruthTheta => {
-                    if let Some(v) = num(i, problem) {
+                    if let Some(v) = row.num(i, problem) {
                         let k = match col {
                             Col::TruthX => 0,
                             Col::TruthY => 1,
@@ -284,28 +317,34 @@ impl CsvLayout {
         if has_pose {
             meta.truth_pose = Some(pose);
         }
+    }
+
+    /// Reads the row's percept cells, percept by percept in header order.
+    fn read_percepts(
+        &self,
+        row: &Row<'_>,
+        schema: &Schema,
+        scratch: &mut Scratch,
+        frame: &mut Frame,
+        problem: &mut Option<Rejection>,
+    ) {
         for p in &self.percepts {
-            let degree = p.degree.and_then(|i| num(i, problem));
-            let value = p.value.and_then(|i| num(i, problem));
+            let degree = p.degree.and_then(|i| row.num(i, problem));
+            let value = p.value.and_then(|i| row.num(i, problem));
             match (degree, value) {
                 (Some(d), v) => {
                     put_percept(schema, scratch, frame, problem, &p.name, &p.args, d, v)
                 }
-                (None, Some(_)) => {
-                    if problem.is_none() {
-                        *problem = Some(Rejection::Malformed {
-                            column: p.value.map_or(1, |i| fields[i].0 + 1),
-                            message: format!(
-                                "a value for `{}` without its degree",
-                                crate::io::stream::instance_name(&p.name, &p.args)
-                            ),
-                        });
-                    }
-                }
+                (None, Some(_)) => first(problem, || Rejection::Malformed {
+                    column: p.value.map_or(1, |i| row.fields[i].0 + 1),
+                    message: format!(
+                        "a value for `{}` without its degree",
+                        crate::io::stream::instance_name(&p.name, &p.args)
+                    ),
+                }),
                 (None, None) => {}
             }
         }
-        scratch.fields = fields;
     }
 }
 

@@ -156,22 +156,41 @@ impl RecordReader {
     /// Converts one record. A record without `t` is taken to be at the previous record's time
     /// (0 for the first); the odometry increment's `dt` is the time since the previous record.
     pub fn convert(&mut self, rec: &FrameRecord) -> MetricFrame {
-        let t = rec
-            .t
-            .filter(|t| t.is_finite())
-            .or(self.prev_t)
-            .unwrap_or(0.0);
+        let percepts = rec.percepts.iter().map(|p| Reading {
+            name: &p.name,
+            subject: p.args.first().map(String::as_str),
+            value: p.value,
+            degree: p.degree,
+        });
+        let truth_pose = rec.truth.as_ref().and_then(|tr| tr.pose);
+        self.convert_parts(
+            rec.t,
+            rec.odometry.unwrap_or_default(),
+            truth_pose,
+            percepts,
+        )
+    }
+
+    /// [`RecordReader::convert`] on a record's parts, so that a reader holding them in another
+    /// form (the stream reader's dense frame) converts alike. `percepts` in the record's order.
+    pub fn convert_parts<'a>(
+        &mut self,
+        t: Option<f64>,
+        o: Odometry,
+        truth_pose: Option<[f64; 3]>,
+        percepts: impl IntoIterator<Item = Reading<'a>>,
+    ) -> MetricFrame {
+        let t = t.filter(|t| t.is_finite()).or(self.prev_t).unwrap_or(0.0);
         let dt = self.prev_t.map_or(0.0, |p| (t - p).max(0.0));
         self.prev_t = Some(t);
-        let o = rec.odometry.unwrap_or_default();
         // Pair ranges with bearings by subject name, in first-seen order.
         let mut pairs: Vec<(&str, Option<f64>, Option<f64>)> = Vec::new();
-        for p in &rec.percepts {
+        for p in percepts {
             let is_range = p.name == RANGE;
             if !is_range && p.name != BEARING {
                 continue;
             }
-            let (Some(arg), Some(v)) = (p.args.first(), p.value.filter(|v| v.is_finite())) else {
+            let (Some(arg), Some(v)) = (p.subject, p.value.filter(|v| v.is_finite())) else {
                 self.stats.dropped += 1;
                 continue;
             };
@@ -192,25 +211,8 @@ impl RecordReader {
                 pairs[k].2 = Some(v.to_radians());
             }
         }
-        let mut observations = Vec::with_capacity(pairs.len());
-        for (name, range, bearing) in pairs {
-            let (Some(range), Some(bearing)) = (range, bearing) else {
-                self.stats.unpaired += 1;
-                continue;
-            };
-            match self.ids.get(name) {
-                Some(&subject) => observations.push(LandmarkReading {
-                    subject,
-                    range,
-                    bearing,
-                }),
-                None => self.stats.unknown += 1,
-            }
-        }
-        let truth = rec
-            .truth
-            .as_ref()
-            .and_then(|tr| tr.pose)
+        let observations = self.sightings(pairs);
+        let truth = truth_pose
             .filter(|p| p.iter().all(|v| v.is_finite()))
             .map(|[x, y, th]| Pose2 {
                 x,
@@ -229,6 +231,39 @@ impl RecordReader {
             truth,
         }
     }
+
+    /// The paired readings of known subjects; unpaired and unknown ones are counted.
+    fn sightings(&mut self, pairs: Vec<(&str, Option<f64>, Option<f64>)>) -> Vec<LandmarkReading> {
+        let mut observations = Vec::with_capacity(pairs.len());
+        for (name, range, bearing) in pairs {
+            let (Some(range), Some(bearing)) = (range, bearing) else {
+                self.stats.unpaired += 1;
+                continue;
+            };
+            match self.ids.get(name) {
+                Some(&subject) => observations.push(LandmarkReading {
+                    subject,
+                    range,
+                    bearing,
+                }),
+                None => self.stats.unknown += 1,
+            }
+        }
+        observations
+    }
+}
+
+/// One percept of a record as [`RecordReader::convert_parts`] takes it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reading<'a> {
+    /// Percept name ([`RANGE`], [`BEARING`]; others are passed over).
+    pub name: &'a str,
+    /// Its first argument: the subject's name.
+    pub subject: Option<&'a str>,
+    /// Metres or degrees.
+    pub value: Option<f64>,
+    /// Reliability.
+    pub degree: f64,
 }
 
 /// Runs `read` over `text`, skipping malformed lines (see the module docs). Returns what `read`

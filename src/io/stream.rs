@@ -98,6 +98,23 @@ impl Schema {
         }
     }
 
+    /// The schema of a list of percept instances (slots in list order) and place names, for a
+    /// stream read without a rule file (the landmark readings of `lplace grid`).
+    pub fn from_instances(instances: Vec<PerceptInstance>, places: Vec<String>) -> Schema {
+        let index = InstanceIndex::new(&instances);
+        Schema {
+            slots: instances.len(),
+            instances,
+            index,
+            places,
+        }
+    }
+
+    /// The percept instance in `slot`.
+    pub fn instance(&self, slot: PerceptSlot) -> Option<&PerceptInstance> {
+        self.instances.get(slot.0 as usize)
+    }
+
     /// The slot of `name(args…)`; `None` when not declared.
     pub fn lookup<S: AsRef<str>>(&self, name: &str, args: &[S]) -> Option<PerceptSlot> {
         // The index compares bytes; up to eight arguments are viewed as such on the stack, more
@@ -290,11 +307,15 @@ pub(crate) struct Scratch {
     stamp: u32,
     /// Byte ranges of the cells of a CSV row.
     pub(crate) fields: Vec<(usize, usize)>,
+    /// The slots set in the current record, in the record's order (a frame is dense and keeps
+    /// no order; a consumer pairing readings in the order they were written needs it).
+    order: Vec<PerceptSlot>,
 }
 
 impl Scratch {
     /// Starts a new record: forget which slots were set, without touching every entry.
     pub(crate) fn begin(&mut self, slots: usize) {
+        self.order.clear();
         if self.seen.len() != slots {
             self.seen = vec![0; slots];
             self.stamp = 0;
@@ -312,6 +333,7 @@ impl Scratch {
             Some(s) if *s == self.stamp => false,
             Some(s) => {
                 *s = self.stamp;
+                self.order.push(slot);
                 true
             }
             None => true,
@@ -519,6 +541,13 @@ impl<R: BufRead> StreamReader<R> {
         &self.parser.schema
     }
 
+    /// The slots of the last frame read, in the order its record wrote them (a [`Frame`] is
+    /// dense and does not keep that order). Meaningful right after [`StreamReader::next_frame`]
+    /// returned [`ReadOutcome::Frame`].
+    pub fn percept_order(&self) -> &[PerceptSlot] {
+        &self.parser.scratch.order
+    }
+
     /// Bytes consumed so far (for progress bars).
     pub fn bytes_read(&self) -> u64 {
         self.bytes
@@ -660,64 +689,63 @@ struct Batch {
 /// called after each record with the reader (for a progress bar), on the reading thread.
 /// `slots` is the frame size ([`Schema::slots`]).
 pub fn read_records<R, E>(
-    mut reader: StreamReader<R>,
+    reader: StreamReader<R>,
     threads: Threads,
-    mut progress: impl FnMut(&StreamReader<R>) + Send,
+    progress: impl FnMut(&StreamReader<R>) + Send,
     read_error: impl FnOnce(std::io::Error) -> E,
-    mut consume: impl FnMut(Record<'_>) -> Result<(), E>,
+    consume: impl FnMut(Record<'_>) -> Result<(), E>,
 ) -> Result<(), E>
 where
     R: BufRead + Send,
 {
-    let slots = reader.schema().slots();
-    if threads == Threads::One {
-        let mut frame = Frame::new(slots);
-        let mut meta = FrameMeta::default();
-        loop {
-            let got = match reader.next_frame(&mut frame, &mut meta) {
-                Ok(got) => got,
-                Err(e) => return Err(read_error(e)),
-            };
-            progress(&reader);
-            match got {
-                ReadOutcome::End => return Ok(()),
-                ReadOutcome::Frame => consume(Record::Frame(&frame, &meta))?,
-                ReadOutcome::Rejected(e) => consume(Record::Rejected(e))?,
-            }
+    match threads {
+        Threads::One => read_here(reader, progress, read_error, consume),
+        Threads::ReadAhead => read_ahead(reader, progress, read_error, consume),
+    }
+}
+
+/// [`read_records`] on the caller's thread.
+fn read_here<R: BufRead, E>(
+    mut reader: StreamReader<R>,
+    mut progress: impl FnMut(&StreamReader<R>),
+    read_error: impl FnOnce(std::io::Error) -> E,
+    mut consume: impl FnMut(Record<'_>) -> Result<(), E>,
+) -> Result<(), E> {
+    let mut frame = Frame::new(reader.schema().slots());
+    let mut meta = FrameMeta::default();
+    loop {
+        let got = match reader.next_frame(&mut frame, &mut meta) {
+            Ok(got) => got,
+            Err(e) => return Err(read_error(e)),
+        };
+        progress(&reader);
+        match got {
+            ReadOutcome::End => return Ok(()),
+            ReadOutcome::Frame => consume(Record::Frame(&frame, &meta))?,
+            ReadOutcome::Rejected(e) => consume(Record::Rejected(e))?,
         }
     }
+}
+
+/// [`read_records`] with the reading on a second thread (see the module docs).
+fn read_ahead<R: BufRead + Send, E>(
+    mut reader: StreamReader<R>,
+    mut progress: impl FnMut(&StreamReader<R>) + Send,
+    read_error: impl FnOnce(std::io::Error) -> E,
+    mut consume: impl FnMut(Record<'_>) -> Result<(), E>,
+) -> Result<(), E> {
+    let slots = reader.schema().slots();
     let (full_tx, full_rx) = mpsc::sync_channel::<Batch>(IN_FLIGHT);
     let (free_tx, free_rx) = mpsc::sync_channel::<Batch>(IN_FLIGHT);
     for _ in 0..IN_FLIGHT {
-        let batch = Batch {
-            frames: (0..BATCH).map(|_| Frame::new(slots)).collect(),
-            metas: vec![FrameMeta::default(); BATCH],
-            order: Vec::with_capacity(BATCH),
-            end: None,
-        };
         // Cannot fail: the receiver is alive and the channel holds IN_FLIGHT.
-        let _ = free_tx.send(batch);
+        let _ = free_tx.send(Batch::new(slots));
     }
     std::thread::scope(|scope| {
         scope.spawn(move || {
             // Ends when the stream does, or when the consumer has gone (its ends are dropped).
             while let Ok(mut batch) = free_rx.recv() {
-                batch.order.clear();
-                let mut used = 0;
-                // Rejections count towards the batch too, so that a stream of nothing but bad
-                // records still moves in bounded batches.
-                while batch.order.len() < BATCH && batch.end.is_none() {
-                    match reader.next_frame(&mut batch.frames[used], &mut batch.metas[used]) {
-                        Ok(ReadOutcome::Frame) => {
-                            batch.order.push(None);
-                            used += 1;
-                        }
-                        Ok(ReadOutcome::Rejected(e)) => batch.order.push(Some(e)),
-                        Ok(ReadOutcome::End) => batch.end = Some(Ok(())),
-                        Err(e) => batch.end = Some(Err(e)),
-                    }
-                    progress(&reader);
-                }
+                batch.fill(&mut reader, &mut progress);
                 let last = batch.end.is_some();
                 if full_tx.send(batch).is_err() || last {
                     return;
@@ -727,18 +755,7 @@ where
         // The consumer: owns `full_rx` and `free_tx`, dropped on return so that the reader stops.
         let (full_rx, free_tx) = (full_rx, free_tx);
         while let Ok(mut batch) = full_rx.recv() {
-            let mut frames = batch.frames.iter().zip(&batch.metas);
-            for entry in batch.order.drain(..) {
-                match entry {
-                    Some(e) => consume(Record::Rejected(e))?,
-                    None => {
-                        // `order` has exactly as many `None`s as frames were filled.
-                        if let Some((frame, meta)) = frames.next() {
-                            consume(Record::Frame(frame, meta))?;
-                        }
-                    }
-                }
-            }
+            batch.drain(&mut consume)?;
             match batch.end.take() {
                 Some(Ok(())) => return Ok(()),
                 Some(Err(e)) => return Err(read_error(e)),
@@ -751,6 +768,59 @@ where
         // the scope re-raises; there is nothing more to consume.
         Ok(())
     })
+}
+
+impl Batch {
+    /// An empty batch of frames of `slots` slots, allocated once and reused.
+    fn new(slots: usize) -> Batch {
+        Batch {
+            frames: (0..BATCH).map(|_| Frame::new(slots)).collect(),
+            metas: vec![FrameMeta::default(); BATCH],
+            order: Vec::with_capacity(BATCH),
+            end: None,
+        }
+    }
+
+    /// Reads up to [`BATCH`] records, or to the end of the stream (then `end` is set).
+    fn fill<R: BufRead>(
+        &mut self,
+        reader: &mut StreamReader<R>,
+        progress: &mut impl FnMut(&StreamReader<R>),
+    ) {
+        self.order.clear();
+        let mut used = 0;
+        // Rejections count towards the batch too, so that a stream of nothing but bad
+        // records still moves in bounded batches.
+        while self.order.len() < BATCH && self.end.is_none() {
+            match reader.next_frame(&mut self.frames[used], &mut self.metas[used]) {
+                Ok(ReadOutcome::Frame) => {
+                    self.order.push(None);
+                    used += 1;
+                }
+                Ok(ReadOutcome::Rejected(e)) => self.order.push(Some(e)),
+                Ok(ReadOutcome::End) => self.end = Some(Ok(())),
+                Err(e) => self.end = Some(Err(e)),
+            }
+            progress(reader);
+        }
+    }
+
+    /// Hands the batch's records to `consume` in stream order.
+    fn drain<E>(&mut self, consume: &mut impl FnMut(Record<'_>) -> Result<(), E>) -> Result<(), E> {
+        let mut frames = self.frames.iter().zip(&self.metas);
+        for entry in self.order.drain(..) {
+            match entry {
+                Some(e) => consume(Record::Rejected(e))?,
+                None => {
+                    // `order` has exactly as many `None`s as frames were filled.
+                    if let Some((frame, meta)) = frames.next() {
+                        consume(Record::Frame(frame, meta))?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 impl LineParser {
@@ -767,21 +837,10 @@ impl LineParser {
             return None;
         }
         if self.format == StreamFormat::Csv && self.csv.is_none() {
-            let (layout, problems) = CsvLayout::from_header(text, &self.schema);
-            self.csv = Some(layout);
-            self.pending = problems
-                .into_iter()
-                .rev()
-                .map(|reason| LineError { line, reason })
-                .collect();
+            self.header(text, line);
             return None;
         }
-        *meta = FrameMeta {
-            line,
-            ..FrameMeta::default()
-        };
-        frame.clear();
-        self.scratch.begin(self.schema.slots);
+        self.reset(line, frame, meta);
         let mut problem = None;
         match &self.csv {
             Some(layout) => layout.parse_row(
@@ -798,38 +857,8 @@ impl LineParser {
             None => {
                 // Not a record the fast scanner vouches for: start over with serde, which
                 // words every rejection.
-                *meta = FrameMeta {
-                    line,
-                    ..FrameMeta::default()
-                };
-                frame.clear();
-                self.scratch.begin(self.schema.slots);
-                let mut ctx = Ctx {
-                    schema: &self.schema,
-                    frame,
-                    meta,
-                    scratch: &mut self.scratch,
-                    problem: &mut problem,
-                    version: None,
-                    has_percepts: false,
-                };
-                let mut de = serde_json::Deserializer::from_slice(text);
-                let parsed = RecordSeed(&mut ctx)
-                    .deserialize(&mut de)
-                    .and_then(|()| de.end());
-                match parsed {
-                    Err(e) => {
-                        problem = Some(Rejection::Malformed {
-                            column: e.column(),
-                            message: e.to_string(),
-                        })
-                    }
-                    Ok(()) => {
-                        if let Some(v) = ctx.version.filter(|&v| v != FORMAT_VERSION as u64) {
-                            problem = Some(Rejection::Version { found: v });
-                        }
-                    }
-                }
+                self.reset(line, frame, meta);
+                problem = self.parse_serde(text, frame, meta);
             }
         }
         let problem = problem.or_else(|| check_meta(meta, self.last_t));
@@ -842,6 +871,60 @@ impl LineParser {
                 ReadOutcome::Frame
             }
         })
+    }
+
+    /// Reads the CSV header on `line`, queueing its problems in `pending`.
+    fn header(&mut self, text: &[u8], line: u64) {
+        let (layout, problems) = CsvLayout::from_header(text, &self.schema);
+        self.csv = Some(layout);
+        self.pending = problems
+            .into_iter()
+            .rev()
+            .map(|reason| LineError { line, reason })
+            .collect();
+    }
+
+    /// Empties the frame and meta data for a record on `line`.
+    fn reset(&mut self, line: u64, frame: &mut Frame, meta: &mut FrameMeta) {
+        *meta = FrameMeta {
+            line,
+            ..FrameMeta::default()
+        };
+        frame.clear();
+        self.scratch.begin(self.schema.slots);
+    }
+
+    /// Reads a JSON record with the serde seed; the first problem found, if any.
+    fn parse_serde(
+        &mut self,
+        text: &[u8],
+        frame: &mut Frame,
+        meta: &mut FrameMeta,
+    ) -> Option<Rejection> {
+        let mut problem = None;
+        let mut ctx = Ctx {
+            schema: &self.schema,
+            frame,
+            meta,
+            scratch: &mut self.scratch,
+            problem: &mut problem,
+            version: None,
+            has_percepts: false,
+        };
+        let mut de = serde_json::Deserializer::from_slice(text);
+        let parsed = RecordSeed(&mut ctx)
+            .deserialize(&mut de)
+            .and_then(|()| de.end());
+        match parsed {
+            Err(e) => Some(Rejection::Malformed {
+                column: e.column(),
+                message: e.to_string(),
+            }),
+            Ok(()) => match ctx.version.filter(|&v| v != FORMAT_VERSION as u64) {
+                Some(v) => Some(Rejection::Version { found: v }),
+                None => problem,
+            },
+        }
     }
 }
 

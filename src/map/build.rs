@@ -38,142 +38,12 @@ impl Map {
     /// ```
     pub fn from_ast(file: &MapFile) -> Result<Map, Vec<Diagnostic>> {
         let mut diags = Vec::new();
-        // One namespace for places, rooms and landmarks: name → first definition.
-        let mut names: BTreeMap<String, Span> = BTreeMap::new();
-        let mut declare =
-            |id: &Spanned<String>, what: &'static str, diags: &mut Vec<Diagnostic>| -> bool {
-                if let Some(first) = names.get(id.node.as_str()) {
-                    diags.push(
-                        Diagnostic::error(
-                            DiagnosticKind::DuplicateName {
-                                what,
-                                name: id.node.clone(),
-                            },
-                            id.span,
-                        )
-                        .with_related(*first, "first defined here"),
-                    );
-                    false
-                } else {
-                    names.insert(id.node.clone(), id.span);
-                    true
-                }
-            };
-
-        let mut rooms = Vec::new();
-        let mut landmarks = Vec::new();
-        let mut place_decls: Vec<&ast::PlaceDecl> = Vec::new();
-        for item in &file.items {
-            match item {
-                MapItem::Room(r) => {
-                    if declare(&r.name, "room", &mut diags) {
-                        rooms.push(Room {
-                            name: r.name.node.clone(),
-                            label: r.label.as_ref().map(|l| l.node.clone()),
-                            places: Vec::new(),
-                        });
-                    }
-                }
-                MapItem::Landmark(l) => {
-                    let what = match l.kind {
-                        LandmarkKind::Beacon => "beacon",
-                        LandmarkKind::Landmark => "landmark",
-                    };
-                    if declare(&l.name, what, &mut diags) {
-                        landmarks.push(Landmark {
-                            name: l.name.node.clone(),
-                            beacon: l.kind == LandmarkKind::Beacon,
-                            position: l.position.node,
-                            id: l.id.as_ref().map(|i| i.node),
-                        });
-                    }
-                }
-                MapItem::Place(p) => {
-                    if declare(&p.name, "place", &mut diags) {
-                        place_decls.push(p);
-                    }
-                }
-                MapItem::Path(_) => {}
-            }
-        }
-
+        let (mut rooms, landmarks, place_decls) = declare_items(file, &mut diags);
         let mut places = Vec::with_capacity(place_decls.len());
         for p in place_decls {
             places.push(build_place(p, &mut rooms, places.len(), &mut diags));
         }
-
-        let mut graph = UnGraph::<usize, PathInfo>::with_capacity(places.len(), 0);
-        for i in 0..places.len() {
-            graph.add_node(i);
-        }
-        let index = |name: &str| places.iter().position(|p: &Place| p.name == name);
-        let mut seen: BTreeMap<(usize, usize), Span> = BTreeMap::new();
-        for item in &file.items {
-            let MapItem::Path(path) = item else { continue };
-            let ends = [&path.from, &path.to].map(|e| {
-                let i = index(&e.node);
-                if i.is_none() {
-                    diags.push(Diagnostic::error(
-                        DiagnosticKind::PathToUnknownPlace {
-                            name: e.node.clone(),
-                        },
-                        e.span,
-                    ));
-                }
-                i
-            });
-            let [Some(a), Some(b)] = ends else { continue };
-            if a == b {
-                diags.push(Diagnostic::error(
-                    DiagnosticKind::SelfPath {
-                        name: path.from.node.clone(),
-                    },
-                    path.span,
-                ));
-                continue;
-            }
-            let key = (a.min(b), a.max(b));
-            if let Some(first) = seen.get(&key) {
-                diags.push(
-                    Diagnostic::error(
-                        DiagnosticKind::DuplicatePath {
-                            from: path.from.node.clone(),
-                            to: path.to.node.clone(),
-                        },
-                        path.span,
-                    )
-                    .with_related(*first, "first path here"),
-                );
-                continue;
-            }
-            seen.insert(key, path.span);
-            let length = match &path.length {
-                Some(l) if l.node < 0.0 => {
-                    diags.push(Diagnostic::error(
-                        DiagnosticKind::NegativeLength {
-                            what: "length",
-                            value: l.node,
-                        },
-                        l.span,
-                    ));
-                    continue;
-                }
-                Some(l) => l.node,
-                None => {
-                    let (pa, pb) = (places[a].pose, places[b].pose);
-                    (pa.0 - pb.0).hypot(pa.1 - pb.1)
-                }
-            };
-            graph.add_edge(
-                NodeIndex::new(a),
-                NodeIndex::new(b),
-                PathInfo {
-                    length,
-                    heading: path.heading.as_ref().map(|h| h.node),
-                },
-            );
-        }
-
+        let graph = build_graph(file, &places, &mut diags);
         if !diags.is_empty() {
             diags.sort_by_key(|d| d.span.start);
             return Err(diags);
@@ -190,58 +60,170 @@ impl Map {
     }
 }
 
+/// The file's rooms, landmarks and place declarations, each name declared once: places, rooms
+/// and landmarks share one namespace, and a name defined again is reported and left out.
+fn declare_items<'f>(
+    file: &'f MapFile,
+    diags: &mut Vec<Diagnostic>,
+) -> (Vec<Room>, Vec<Landmark>, Vec<&'f ast::PlaceDecl>) {
+    // Name → first definition.
+    let mut names: BTreeMap<String, Span> = BTreeMap::new();
+    let mut declare =
+        |id: &Spanned<String>, what: &'static str, diags: &mut Vec<Diagnostic>| -> bool {
+            if let Some(first) = names.get(id.node.as_str()) {
+                diags.push(
+                    Diagnostic::error(
+                        DiagnosticKind::DuplicateName {
+                            what,
+                            name: id.node.clone(),
+                        },
+                        id.span,
+                    )
+                    .with_related(*first, "first defined here"),
+                );
+                false
+            } else {
+                names.insert(id.node.clone(), id.span);
+                true
+            }
+        };
+    let mut rooms = Vec::new();
+    let mut landmarks = Vec::new();
+    let mut place_decls: Vec<&ast::PlaceDecl> = Vec::new();
+    for item in &file.items {
+        match item {
+            MapItem::Room(r) => {
+                if declare(&r.name, "room", diags) {
+                    rooms.push(Room {
+                        name: r.name.node.clone(),
+                        label: r.label.as_ref().map(|l| l.node.clone()),
+                        places: Vec::new(),
+                    });
+                }
+            }
+            MapItem::Landmark(l) => {
+                let what = match l.kind {
+                    LandmarkKind::Beacon => "beacon",
+                    LandmarkKind::Landmark => "landmark",
+                };
+                if declare(&l.name, what, diags) {
+                    landmarks.push(Landmark {
+                        name: l.name.node.clone(),
+                        beacon: l.kind == LandmarkKind::Beacon,
+                        position: l.position.node,
+                        id: l.id.as_ref().map(|i| i.node),
+                    });
+                }
+            }
+            MapItem::Place(p) => {
+                if declare(&p.name, "place", diags) {
+                    place_decls.push(p);
+                }
+            }
+            MapItem::Path(_) => {}
+        }
+    }
+    (rooms, landmarks, place_decls)
+}
+
+/// The path graph over `places` (node `i` is place `i`), from the file's `path` items.
+fn build_graph(
+    file: &MapFile,
+    places: &[Place],
+    diags: &mut Vec<Diagnostic>,
+) -> UnGraph<usize, PathInfo> {
+    let mut graph = UnGraph::<usize, PathInfo>::with_capacity(places.len(), 0);
+    for i in 0..places.len() {
+        graph.add_node(i);
+    }
+    let mut seen: BTreeMap<(usize, usize), Span> = BTreeMap::new();
+    for item in &file.items {
+        let MapItem::Path(path) = item else { continue };
+        if let Some((a, b, info)) = path_edge(path, places, &mut seen, diags) {
+            graph.add_edge(NodeIndex::new(a), NodeIndex::new(b), info);
+        }
+    }
+    graph
+}
+
+/// One `path` item as an edge between place indices, or `None` (reported) when it names an
+/// unknown place, joins a place to itself, repeats a path (`seen` holds the earlier ones) or
+/// has a negative length. Without a length, the distance between the place centres.
+fn path_edge(
+    path: &ast::PathDecl,
+    places: &[Place],
+    seen: &mut BTreeMap<(usize, usize), Span>,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<(usize, usize, PathInfo)> {
+    let index = |name: &str| places.iter().position(|p: &Place| p.name == name);
+    let ends = [&path.from, &path.to].map(|e| {
+        let i = index(&e.node);
+        if i.is_none() {
+            diags.push(Diagnostic::error(
+                DiagnosticKind::PathToUnknownPlace {
+                    name: e.node.clone(),
+                },
+                e.span,
+            ));
+        }
+        i
+    });
+    let [Some(a), Some(b)] = ends else {
+        return None;
+    };
+    if a == b {
+        diags.push(Diagnostic::error(
+            DiagnosticKind::SelfPath {
+                name: path.from.node.clone(),
+            },
+            path.span,
+        ));
+        return None;
+    }
+    let key = (a.min(b), a.max(b));
+    if let Some(first) = seen.get(&key) {
+        diags.push(
+            Diagnostic::error(
+                DiagnosticKind::DuplicatePath {
+                    from: path.from.node.clone(),
+                    to: path.to.node.clone(),
+                },
+                path.span,
+            )
+            .with_related(*first, "first path here"),
+        );
+        return None;
+    }
+    seen.insert(key, path.span);
+    let length = match &path.length {
+        Some(l) if l.node < 0.0 => {
+            diags.push(Diagnostic::error(
+                DiagnosticKind::NegativeLength {
+                    what: "length",
+                    value: l.node,
+                },
+                l.span,
+            ));
+            return None;
+        }
+        Some(l) => l.node,
+        None => {
+            let (pa, pb) = (places[a].pose, places[b].pose);
+            (pa.0 - pb.0).hypot(pa.1 - pb.1)
+        }
+    };
+    let heading = path.heading.as_ref().map(|h| h.node);
+    Some((a, b, PathInfo { length, heading }))
+}
+
 fn build_place(
     p: &ast::PlaceDecl,
     rooms: &mut [Room],
     id: usize,
     diags: &mut Vec<Diagnostic>,
 ) -> Place {
-    let room = match &p.room {
-        None => None,
-        Some(r) => match rooms.iter().position(|x| x.name == r.node) {
-            Some(i) => {
-                rooms[i].places.push(id);
-                Some(i)
-            }
-            None => {
-                diags.push(Diagnostic::error(
-                    DiagnosticKind::UnknownRoom {
-                        name: r.node.clone(),
-                    },
-                    r.span,
-                ));
-                None
-            }
-        },
-    };
-    let extent = match &p.extent {
-        None => Extent::Radius(DEFAULT_RADIUS),
-        Some(e) => match e.node {
-            ast::Extent::Radius(r) => {
-                if r < 0.0 {
-                    diags.push(Diagnostic::error(
-                        DiagnosticKind::NegativeLength {
-                            what: "radius",
-                            value: r,
-                        },
-                        e.span,
-                    ));
-                }
-                Extent::Radius(r.max(0.0))
-            }
-            ast::Extent::Box(x0, y0, x1, y1) => {
-                for (lo, hi) in [(x0, x1), (y0, y1)] {
-                    if lo > hi {
-                        diags.push(Diagnostic::error(
-                            DiagnosticKind::InvalidBox { low: lo, high: hi },
-                            e.span,
-                        ));
-                    }
-                }
-                Extent::Box { x0, y0, x1, y1 }
-            }
-        },
-    };
+    let room = place_room(p, rooms, id, diags);
+    let extent = place_extent(p, diags);
     let mut place = Place {
         name: p.name.node.clone(),
         kind: p.kind.node.clone(),
@@ -254,59 +236,123 @@ fn build_place(
         span: p.span,
         direction_spans: Vec::new(),
     };
+    for f in &p.features {
+        add_feature(&mut place, f, diags);
+    }
+    place
+}
+
+/// The index of the place's room, with place `id` added to that room's places; `None` when it
+/// names none, or an unknown one (reported).
+fn place_room(
+    p: &ast::PlaceDecl,
+    rooms: &mut [Room],
+    id: usize,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<usize> {
+    let r = p.room.as_ref()?;
+    match rooms.iter().position(|x| x.name == r.node) {
+        Some(i) => {
+            rooms[i].places.push(id);
+            Some(i)
+        }
+        None => {
+            diags.push(Diagnostic::error(
+                DiagnosticKind::UnknownRoom {
+                    name: r.node.clone(),
+                },
+                r.span,
+            ));
+            None
+        }
+    }
+}
+
+/// The place's extent ([`DEFAULT_RADIUS`] when none is written); a negative radius or swapped
+/// box corners are reported.
+fn place_extent(p: &ast::PlaceDecl, diags: &mut Vec<Diagnostic>) -> Extent {
+    let Some(e) = &p.extent else {
+        return Extent::Radius(DEFAULT_RADIUS);
+    };
+    match e.node {
+        ast::Extent::Radius(r) => {
+            if r < 0.0 {
+                diags.push(Diagnostic::error(
+                    DiagnosticKind::NegativeLength {
+                        what: "radius",
+                        value: r,
+                    },
+                    e.span,
+                ));
+            }
+            Extent::Radius(r.max(0.0))
+        }
+        ast::Extent::Box(x0, y0, x1, y1) => {
+            for (lo, hi) in [(x0, x1), (y0, y1)] {
+                if lo > hi {
+                    diags.push(Diagnostic::error(
+                        DiagnosticKind::InvalidBox { low: lo, high: hi },
+                        e.span,
+                    ));
+                }
+            }
+            Extent::Box { x0, y0, x1, y1 }
+        }
+    }
+}
+
+/// Adds one wall, corner or parameter to `place`; one written twice is reported.
+fn add_feature(place: &mut Place, f: &Feature, diags: &mut Vec<Diagnostic>) {
     let dup = |what: &'static str, name: String, span: Span| {
         Diagnostic::error(DiagnosticKind::DuplicateFeature { what, name }, span)
     };
-    for f in &p.features {
-        match f {
-            Feature::Wall { dir, degree, span } => {
-                let d = degree_ok(degree, diags);
-                place.direction_spans.push((dir.node.clone(), dir.span));
-                if place.walls.insert(dir.node.clone(), d).is_some() {
-                    diags.push(dup("wall", dir.node.clone(), *span));
-                }
+    match f {
+        Feature::Wall { dir, degree, span } => {
+            let d = degree_ok(degree, diags);
+            place.direction_spans.push((dir.node.clone(), dir.span));
+            if place.walls.insert(dir.node.clone(), d).is_some() {
+                diags.push(dup("wall", dir.node.clone(), *span));
             }
-            Feature::Corner {
-                d1,
-                d2,
-                degree,
-                span,
-            } => {
-                let d = degree_ok(degree, diags);
-                place.direction_spans.push((d1.node.clone(), d1.span));
-                place.direction_spans.push((d2.node.clone(), d2.span));
-                let key = corner_key(&d1.node, &d2.node);
-                if place.corners.insert(key, d).is_some() {
-                    diags.push(dup("corner", format!("{} {}", d1.node, d2.node), *span));
-                }
+        }
+        Feature::Corner {
+            d1,
+            d2,
+            degree,
+            span,
+        } => {
+            let d = degree_ok(degree, diags);
+            place.direction_spans.push((d1.node.clone(), d1.span));
+            place.direction_spans.push((d2.node.clone(), d2.span));
+            let key = corner_key(&d1.node, &d2.node);
+            if place.corners.insert(key, d).is_some() {
+                diags.push(dup("corner", format!("{} {}", d1.node, d2.node), *span));
             }
-            Feature::Param {
-                name,
-                key,
-                value,
-                upper,
-                span,
-            } => {
-                let k = (name.node.clone(), key.as_ref().map(|k| k.node.clone()));
-                let hi = upper.as_ref().map_or(value.node, |u| u.node);
-                if hi < value.node {
-                    diags.push(Diagnostic::error(
-                        DiagnosticKind::EmptyRange {
-                            low: value.node,
-                            high: hi,
-                        },
-                        *span,
-                    ));
-                }
-                let expected = Expected {
-                    lo: value.node,
-                    hi: hi.max(value.node),
-                };
-                if place.params.insert(k, expected).is_some() {
-                    diags.push(dup("param", name.node.clone(), *span));
-                }
+        }
+        Feature::Param {
+            name,
+            key,
+            value,
+            upper,
+            span,
+        } => {
+            let k = (name.node.clone(), key.as_ref().map(|k| k.node.clone()));
+            let hi = upper.as_ref().map_or(value.node, |u| u.node);
+            if hi < value.node {
+                diags.push(Diagnostic::error(
+                    DiagnosticKind::EmptyRange {
+                        low: value.node,
+                        high: hi,
+                    },
+                    *span,
+                ));
+            }
+            let expected = Expected {
+                lo: value.node,
+                hi: hi.max(value.node),
+            };
+            if place.params.insert(k, expected).is_some() {
+                diags.push(dup("param", name.node.clone(), *span));
             }
         }
     }
-    place
 }

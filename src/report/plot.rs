@@ -106,7 +106,12 @@ impl RunPlot {
         let n = self.places.len();
         let cols = self.columns().max(1);
         let (left, top, row_h, width) = (56.0, 40.0, 28.0, 1000.0);
-        let w = width / cols as f64;
+        let g = Layout {
+            left,
+            row_h,
+            width,
+            w: width / cols as f64,
+        };
         let height = top + row_h * n as f64 + 60.0;
         let mut s = String::new();
         let _ = writeln!(
@@ -126,69 +131,81 @@ impl RunPlot {
             self.frames, self.bucket
         );
         for (k, name) in self.places.iter().enumerate() {
-            let y = top + row_h * k as f64;
-            let _ = writeln!(
-                s,
-                r##"<text x="{}" y="{}" text-anchor="end">{}</text><rect x="{left}" y="{}" width="{width}" height="{}" fill="none" stroke="#ddd"/>"##,
-                left - 6.0,
-                y + row_h * 0.6,
-                xml_escape(name),
-                y + 3.0,
-                row_h - 4.0
-            );
+            self.place_row(&mut s, &g, k, name, top + row_h * k as f64);
+        }
+        self.frame_axis(&mut s, &g, top + row_h * n as f64 + 8.0);
+        s
+    }
+
+    /// Place `k`'s row at height `y`: its label and frame, its Π and N strips, its truth and
+    /// chosen marks.
+    fn place_row(&self, s: &mut String, g: &Layout, k: usize, name: &str, y: f64) {
+        let (left, row_h, width) = (g.left, g.row_h, g.width);
+        let _ = writeln!(
+            s,
+            r##"<text x="{}" y="{}" text-anchor="end">{}</text><rect x="{left}" y="{}" width="{width}" height="{}" fill="none" stroke="#ddd"/>"##,
+            left - 6.0,
+            y + row_h * 0.6,
+            xml_escape(name),
+            y + 3.0,
+            row_h - 4.0
+        );
+        let n = self.places.len();
+        for (values, colour, sy) in [
+            (&self.pos, "#3b7dd8", y + 4.0),
+            (&self.nec, "#0b2a55", y + 14.0),
+        ] {
+            let q = |c: usize| (values[c * n + k].clamp(0.0, 1.0) * 20.0).round() as u32;
             // Runs of equal quantised degree become one rectangle: small files for long runs.
-            let strips = [
-                (&self.pos, "#3b7dd8", y + 4.0, 10.0),
-                (&self.nec, "#0b2a55", y + 14.0, 10.0),
-            ];
-            for (values, colour, sy, sh) in strips {
-                let q = |c: usize| (values[c * n + k].clamp(0.0, 1.0) * 20.0).round() as u32;
-                let mut c = 0;
-                while c < self.columns() {
-                    let level = q(c);
-                    let mut e = c + 1;
-                    while e < self.columns() && q(e) == level {
-                        e += 1;
-                    }
-                    if level > 0 {
-                        let _ = writeln!(
-                            s,
-                            r##"<rect x="{:.2}" y="{sy}" width="{:.2}" height="{sh}" fill="{colour}" fill-opacity="{:.2}"/>"##,
-                            left + w * c as f64,
-                            w * (e - c) as f64,
-                            level as f64 / 20.0
-                        );
-                    }
-                    c = e;
-                }
-            }
-            for (marks, colour, my, mh) in [
-                (&self.truth, "#d62728", y + 2.0, 2.5),
-                (&self.chosen, "#000", y + 24.0, 3.0),
-            ] {
-                let mut c = 0;
-                while c < self.columns() {
-                    if marks[c] != k as u32 {
-                        c += 1;
-                        continue;
-                    }
-                    let mut e = c + 1;
-                    while e < self.columns() && marks[e] == k as u32 {
-                        e += 1;
-                    }
+            for (c, e, level) in self.runs(q) {
+                if level > 0 {
                     let _ = writeln!(
                         s,
-                        r##"<rect x="{:.2}" y="{my}" width="{:.2}" height="{mh}" fill="{colour}"/>"##,
-                        left + w * c as f64,
-                        w * (e - c) as f64
+                        r##"<rect x="{:.2}" y="{sy}" width="{:.2}" height="10" fill="{colour}" fill-opacity="{:.2}"/>"##,
+                        left + g.w * c as f64,
+                        g.w * (e - c) as f64,
+                        level as f64 / 20.0
                     );
-                    c = e;
                 }
             }
         }
-        let axis_y = top + row_h * n as f64 + 8.0;
+        for (marks, colour, my, mh) in [
+            (&self.truth, "#d62728", y + 2.0, 2.5),
+            (&self.chosen, "#000", y + 24.0, 3.0),
+        ] {
+            for (c, e, is_k) in self.runs(|c| marks[c] == k as u32) {
+                if is_k {
+                    let _ = writeln!(
+                        s,
+                        r##"<rect x="{:.2}" y="{my}" width="{:.2}" height="{mh}" fill="{colour}"/>"##,
+                        left + g.w * c as f64,
+                        g.w * (e - c) as f64
+                    );
+                }
+            }
+        }
+    }
+
+    /// Maximal runs `[start, end)` of columns on which `key` is equal, with that key.
+    fn runs<K: PartialEq>(&self, key: impl Fn(usize) -> K) -> Vec<(usize, usize, K)> {
+        let mut out = Vec::new();
+        let mut c = 0;
+        while c < self.columns() {
+            let k = key(c);
+            let mut e = c + 1;
+            while e < self.columns() && key(e) == k {
+                e += 1;
+            }
+            out.push((c, e, k));
+            c = e;
+        }
+        out
+    }
+
+    /// The frame-number axis below the rows, at height `axis_y`.
+    fn frame_axis(&self, s: &mut String, g: &Layout, axis_y: f64) {
         for i in 0..=5 {
-            let x = left + width * i as f64 / 5.0;
+            let x = g.left + g.width * i as f64 / 5.0;
             let frame = (self.frames as f64 * i as f64 / 5.0).round() as u64;
             let _ = writeln!(
                 s,
@@ -201,11 +218,18 @@ impl RunPlot {
         let _ = writeln!(
             s,
             r##"<text x="{}" y="{}" text-anchor="middle" fill="#555">frame</text></svg>"##,
-            left + width / 2.0,
+            g.left + g.width / 2.0,
             axis_y + 34.0
         );
-        s
     }
+}
+
+/// Where [`RunPlot::to_svg`] draws: left margin, row height, plot width and column width (px).
+struct Layout {
+    left: f64,
+    row_h: f64,
+    width: f64,
+    w: f64,
 }
 
 /// Escapes text for SVG content and attribute values.

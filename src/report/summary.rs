@@ -353,9 +353,18 @@ impl Summary {
                 .collect();
             writeln!(out, "rejected {} ({})", self.rejected, kinds.join(", "))?;
         }
-        let Some(t) = &self.truth else {
-            return Ok(());
-        };
+        match &self.truth {
+            Some(t) => t.write_text(out),
+            None => Ok(()),
+        }
+    }
+}
+
+impl TruthSummary {
+    /// Writes the scores against the truth for a person: accuracy, kidnap recoveries, and the
+    /// confusion table.
+    fn write_text(&self, out: &mut impl std::io::Write) -> std::io::Result<()> {
+        let t = self;
         writeln!(
             out,
             "at a place {}: correct {} ({:.1}%)  wrong {} ({:.1}%)  disoriented {}  confidently wrong {} ({:.1}%)",
@@ -374,24 +383,7 @@ impl Summary {
             t.between_places, t.between_decided
         )?;
         if t.kidnaps > 0 {
-            writeln!(
-                out,
-                "kidnaps {}: mean recovery {} frames, worst {}",
-                t.kidnaps,
-                t.mean_recovery_frames
-                    .map_or("-".to_string(), |m| format!("{m:.1}")),
-                t.max_recovery_frames
-                    .map_or("never".to_string(), |m| m.to_string())
-            )?;
-            let each: Vec<String> = t
-                .kidnap_events
-                .iter()
-                .map(|k| match (k.recovered_after, k.recovered_after_at_place) {
-                    (Some(f), Some(a)) => format!("line {}: {f} ({a} at a place)", k.line),
-                    _ => format!("line {}: never", k.line),
-                })
-                .collect();
-            writeln!(out, "  frames to recover: {}", each.join(", "))?;
+            t.write_kidnaps(out)?;
         }
         write!(out, "confusion (rows truth, columns decided):\n{:>6}", "")?;
         for c in &t.confusion_columns {
@@ -406,6 +398,29 @@ impl Summary {
             writeln!(out)?;
         }
         Ok(())
+    }
+
+    /// The kidnap lines: mean and worst recovery, then each kidnap's.
+    fn write_kidnaps(&self, out: &mut impl std::io::Write) -> std::io::Result<()> {
+        let t = self;
+        writeln!(
+            out,
+            "kidnaps {}: mean recovery {} frames, worst {}",
+            t.kidnaps,
+            t.mean_recovery_frames
+                .map_or("-".to_string(), |m| format!("{m:.1}")),
+            t.max_recovery_frames
+                .map_or("never".to_string(), |m| m.to_string())
+        )?;
+        let each: Vec<String> = t
+            .kidnap_events
+            .iter()
+            .map(|k| match (k.recovered_after, k.recovered_after_at_place) {
+                (Some(f), Some(a)) => format!("line {}: {f} ({a} at a place)", k.line),
+                _ => format!("line {}: never", k.line),
+            })
+            .collect();
+        writeln!(out, "  frames to recover: {}", each.join(", "))
     }
 }
 

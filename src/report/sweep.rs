@@ -93,20 +93,8 @@ pub fn svg(panels: &[Panel], y_label: &str) -> String {
     );
     // Legend: the series names of the first panel (all panels show the same methods).
     if let Some(first) = panels.first() {
-        for (k, ser) in first.series.iter().enumerate() {
-            let x = left + 110.0 * k as f64;
-            let c = COLOURS[k % COLOURS.len()];
-            let d = DASHES[k % DASHES.len()];
-            let _ = writeln!(
-                s,
-                r##"<line x1="{x}" y1="16" x2="{}" y2="16" stroke="{c}" stroke-width="2.5" stroke-dasharray="{d}"/><text x="{}" y="20">{}</text>"##,
-                x + 24.0,
-                x + 30.0,
-                xml_escape(&ser.name)
-            );
-        }
+        legend(&mut s, first, left);
     }
-    let y_of = |v: f64| top + ph * (1.0 - v / ymax);
     let _ = writeln!(
         s,
         r##"<text transform="translate(16 {}) rotate(-90)" text-anchor="middle">{}</text>"##,
@@ -114,72 +102,123 @@ pub fn svg(panels: &[Panel], y_label: &str) -> String {
         xml_escape(y_label)
     );
     for (pi, panel) in panels.iter().enumerate() {
-        let x0 = left + pi as f64 * (pw + gap);
-        let m = panel.levels.len().max(1);
-        // Levels sit at the centres of m equal slots.
-        let x_of = |k: usize| x0 + pw * (k as f64 + 0.5) / m as f64;
-        let _ = writeln!(
-            s,
-            r##"<rect x="{x0}" y="{top}" width="{pw}" height="{ph}" fill="none" stroke="#444"/>"##
-        );
-        let _ = writeln!(
-            s,
-            r##"<text x="{}" y="{}" text-anchor="middle" font-weight="bold">{}</text>"##,
-            x0 + pw / 2.0,
-            top - 10.0,
-            xml_escape(&panel.title)
-        );
-        for t in 0..=5 {
-            let v = ymax * t as f64 / 5.0;
-            let y = y_of(v);
-            let _ = writeln!(
-                s,
-                r##"<line x1="{x0}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end" font-size="10">{}</text>"##,
-                x0 + pw,
-                x0 - 4.0,
-                y + 3.0,
-                format_tick(v)
-            );
-        }
-        for (k, label) in panel.levels.iter().enumerate() {
-            let _ = writeln!(
-                s,
-                r##"<text x="{:.1}" y="{}" text-anchor="middle" font-size="10">{}</text>"##,
-                x_of(k),
-                top + ph + 16.0,
-                xml_escape(label)
-            );
-        }
-        for (si, ser) in panel.series.iter().enumerate() {
-            let c = COLOURS[si % COLOURS.len()];
-            let d = DASHES[si % DASHES.len()];
-            let pts: Vec<Option<(f64, f64)>> = ser
-                .values
-                .iter()
-                .take(m)
-                .enumerate()
-                .map(|(k, v)| v.filter(|v| v.is_finite()).map(|v| (x_of(k), y_of(v))))
-                .collect();
-            // A polyline per run of present values, so a missing level leaves a gap.
-            for run in pts.split(Option::is_none) {
-                let run: Vec<(f64, f64)> = run.iter().flatten().copied().collect();
-                if run.len() >= 2 {
-                    let path: Vec<String> =
-                        run.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
-                    let _ = writeln!(
-                        s,
-                        r##"<polyline points="{}" fill="none" stroke="{c}" stroke-width="2" stroke-dasharray="{d}"/>"##,
-                        path.join(" ")
-                    );
-                }
-                for (x, y) in run {
-                    let _ = writeln!(s, r##"<circle cx="{x:.1}" cy="{y:.1}" r="3" fill="{c}"/>"##);
-                }
-            }
-        }
+        let area = Area {
+            x0: left + pi as f64 * (pw + gap),
+            top,
+            pw,
+            ph,
+            ymax,
+            m: panel.levels.len().max(1),
+        };
+        draw_panel(&mut s, panel, &area);
     }
     s.push_str("</svg>\n");
     s
+}
+
+/// One panel's plot area in pixels, its y range `[0, ymax]` and its number of level slots.
+struct Area {
+    x0: f64,
+    top: f64,
+    pw: f64,
+    ph: f64,
+    ymax: f64,
+    m: usize,
+}
+
+impl Area {
+    fn y_of(&self, v: f64) -> f64 {
+        self.top + self.ph * (1.0 - v / self.ymax)
+    }
+
+    /// Levels sit at the centres of `m` equal slots.
+    fn x_of(&self, k: usize) -> f64 {
+        self.x0 + self.pw * (k as f64 + 0.5) / self.m as f64
+    }
+}
+
+/// A line sample and name per series, in a row at the top.
+fn legend(s: &mut String, panel: &Panel, left: f64) {
+    for (k, ser) in panel.series.iter().enumerate() {
+        let x = left + 110.0 * k as f64;
+        let c = COLOURS[k % COLOURS.len()];
+        let d = DASHES[k % DASHES.len()];
+        let _ = writeln!(
+            s,
+            r##"<line x1="{x}" y1="16" x2="{}" y2="16" stroke="{c}" stroke-width="2.5" stroke-dasharray="{d}"/><text x="{}" y="20">{}</text>"##,
+            x + 24.0,
+            x + 30.0,
+            xml_escape(&ser.name)
+        );
+    }
+}
+
+/// One panel: its frame, title, y ticks, level labels and lines.
+fn draw_panel(s: &mut String, panel: &Panel, a: &Area) {
+    let (x0, top, pw, ph) = (a.x0, a.top, a.pw, a.ph);
+    let _ = writeln!(
+        s,
+        r##"<rect x="{x0}" y="{top}" width="{pw}" height="{ph}" fill="none" stroke="#444"/>"##
+    );
+    let _ = writeln!(
+        s,
+        r##"<text x="{}" y="{}" text-anchor="middle" font-weight="bold">{}</text>"##,
+        x0 + pw / 2.0,
+        top - 10.0,
+        xml_escape(&panel.title)
+    );
+    for t in 0..=5 {
+        let v = a.ymax * t as f64 / 5.0;
+        let y = a.y_of(v);
+        let _ = writeln!(
+            s,
+            r##"<line x1="{x0}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end" font-size="10">{}</text>"##,
+            x0 + pw,
+            x0 - 4.0,
+            y + 3.0,
+            format_tick(v)
+        );
+    }
+    for (k, label) in panel.levels.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            r##"<text x="{:.1}" y="{}" text-anchor="middle" font-size="10">{}</text>"##,
+            a.x_of(k),
+            top + ph + 16.0,
+            xml_escape(label)
+        );
+    }
+    for (si, ser) in panel.series.iter().enumerate() {
+        draw_series(s, ser, si, a);
+    }
+}
+
+/// Series number `si` as polylines with dots.
+fn draw_series(s: &mut String, ser: &Series, si: usize, a: &Area) {
+    let c = COLOURS[si % COLOURS.len()];
+    let d = DASHES[si % DASHES.len()];
+    let pts: Vec<Option<(f64, f64)>> = ser
+        .values
+        .iter()
+        .take(a.m)
+        .enumerate()
+        .map(|(k, v)| v.filter(|v| v.is_finite()).map(|v| (a.x_of(k), a.y_of(v))))
+        .collect();
+    // A polyline per run of present values, so a missing level leaves a gap.
+    for run in pts.split(Option::is_none) {
+        let run: Vec<(f64, f64)> = run.iter().flatten().copied().collect();
+        if run.len() >= 2 {
+            let path: Vec<String> = run.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
+            let _ = writeln!(
+                s,
+                r##"<polyline points="{}" fill="none" stroke="{c}" stroke-width="2" stroke-dasharray="{d}"/>"##,
+                path.join(" ")
+            );
+        }
+        for (x, y) in run {
+            let _ = writeln!(s, r##"<circle cx="{x:.1}" cy="{y:.1}" r="3" fill="{c}"/>"##);
+        }
+    }
 }
 
 /// A tick value with no more digits than it needs.

@@ -56,7 +56,65 @@ pub fn svg(map: &Map, points: &[TrajectoryPoint], scale: f64, title: &str) -> St
     } else {
         20.0
     };
-    // Bounds over every extent and every point, with a margin.
+    let (x0, y0, x1, y1) = bounds(map, points);
+    let m = 1.0;
+    let (x0, y0, x1, y1) = (x0 - m, y0 - m, x1 + m, y1 + m);
+    let header = 40.0;
+    let w = (x1 - x0) * scale;
+    let h = (y1 - y0) * scale + header;
+    let c = Canvas {
+        x0,
+        y1,
+        scale,
+        header,
+    };
+    let mut s = String::new();
+    // Writing to a String cannot fail; the results are ignored for that reason.
+    let _ = writeln!(
+        s,
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}" viewBox="0 0 {w:.1} {h:.1}" font-family="sans-serif" font-size="11">"##
+    );
+    let _ = writeln!(s, r##"<rect width="100%" height="100%" fill="white"/>"##);
+    let counts = |v: Verdict| points.iter().filter(|p| p.verdict == v).count();
+    let _ = writeln!(
+        s,
+        r##"<text x="8" y="16" font-size="14">{}</text><text x="8" y="32"><tspan fill="{}">● right {}</tspan>  <tspan fill="{}">● wrong {}</tspan>  <tspan fill="{}">● disoriented {}</tspan></text>"##,
+        escape(title),
+        Verdict::Right.colour(),
+        counts(Verdict::Right),
+        Verdict::Wrong.colour(),
+        counts(Verdict::Wrong),
+        Verdict::Disoriented.colour(),
+        counts(Verdict::Disoriented)
+    );
+    draw_map(&mut s, map, &c);
+    for p in points {
+        if p.x.is_finite() && p.y.is_finite() {
+            let _ = writeln!(
+                s,
+                r##"<circle cx="{:.1}" cy="{:.1}" r="2.2" fill="{}"/>"##,
+                c.px(p.x),
+                c.py(p.y),
+                p.verdict.colour()
+            );
+        }
+    }
+    for p in map.places() {
+        let _ = writeln!(
+            s,
+            r##"<text x="{:.1}" y="{:.1}" text-anchor="middle" fill="#08306b">{}</text>"##,
+            c.px(p.pose.0),
+            c.py(p.pose.1),
+            escape(&p.name)
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+/// The smallest box `(x0, y0, x1, y1)` holding every place extent and every finite point;
+/// the unit square when there is nothing.
+fn bounds(map: &Map, points: &[TrajectoryPoint]) -> (f64, f64, f64, f64) {
     let (mut x0, mut y0, mut x1, mut y1) =
         (f64::INFINITY, f64::INFINITY, -f64::INFINITY, -f64::INFINITY);
     let mut grow = |x: f64, y: f64| {
@@ -83,35 +141,32 @@ pub fn svg(map: &Map, points: &[TrajectoryPoint], scale: f64, title: &str) -> St
         grow(p.x, p.y);
     }
     if !x0.is_finite() {
-        (x0, y0, x1, y1) = (0.0, 0.0, 1.0, 1.0);
+        return (0.0, 0.0, 1.0, 1.0);
     }
-    let m = 1.0;
-    let (x0, y0, x1, y1) = (x0 - m, y0 - m, x1 + m, y1 + m);
-    let header = 40.0;
-    let w = (x1 - x0) * scale;
-    let h = (y1 - y0) * scale + header;
-    let px = |x: f64| (x - x0) * scale;
-    let py = |y: f64| (y1 - y) * scale + header;
+    (x0, y0, x1, y1)
+}
 
-    let mut s = String::new();
-    // Writing to a String cannot fail; the results are ignored for that reason.
-    let _ = writeln!(
-        s,
-        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}" viewBox="0 0 {w:.1} {h:.1}" font-family="sans-serif" font-size="11">"##
-    );
-    let _ = writeln!(s, r##"<rect width="100%" height="100%" fill="white"/>"##);
-    let counts = |v: Verdict| points.iter().filter(|p| p.verdict == v).count();
-    let _ = writeln!(
-        s,
-        r##"<text x="8" y="16" font-size="14">{}</text><text x="8" y="32"><tspan fill="{}">● right {}</tspan>  <tspan fill="{}">● wrong {}</tspan>  <tspan fill="{}">● disoriented {}</tspan></text>"##,
-        escape(title),
-        Verdict::Right.colour(),
-        counts(Verdict::Right),
-        Verdict::Wrong.colour(),
-        counts(Verdict::Wrong),
-        Verdict::Disoriented.colour(),
-        counts(Verdict::Disoriented)
-    );
+/// Metres to pixels: `x0` and `y1` are the drawn area's left and top edges (metres), `header`
+/// the pixels above it; y is flipped.
+struct Canvas {
+    x0: f64,
+    y1: f64,
+    scale: f64,
+    header: f64,
+}
+
+impl Canvas {
+    fn px(&self, x: f64) -> f64 {
+        (x - self.x0) * self.scale
+    }
+
+    fn py(&self, y: f64) -> f64 {
+        (self.y1 - y) * self.scale + self.header
+    }
+}
+
+/// The map beneath the trajectory: paths between place centres, then the place extents.
+fn draw_map(s: &mut String, map: &Map, c: &Canvas) {
     for e in map.graph().edge_indices() {
         let Some((a, b)) = map.graph().edge_endpoints(e) else {
             continue;
@@ -123,10 +178,10 @@ pub fn svg(map: &Map, points: &[TrajectoryPoint], scale: f64, title: &str) -> St
         let _ = writeln!(
             s,
             r##"<line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="#c6dbef" stroke-width="1.5"/>"##,
-            px(pa.pose.0),
-            py(pa.pose.1),
-            px(pb.pose.0),
-            py(pb.pose.1)
+            c.px(pa.pose.0),
+            c.py(pa.pose.1),
+            c.px(pb.pose.0),
+            c.py(pb.pose.1)
         );
     }
     for p in map.places() {
@@ -135,45 +190,23 @@ pub fn svg(map: &Map, points: &[TrajectoryPoint], scale: f64, title: &str) -> St
                 let _ = writeln!(
                     s,
                     r##"<circle cx="{:.1}" cy="{:.1}" r="{:.1}" fill="#f2f2f2" fill-opacity="0.5" stroke="#555"/>"##,
-                    px(p.pose.0),
-                    py(p.pose.1),
-                    r * scale
+                    c.px(p.pose.0),
+                    c.py(p.pose.1),
+                    r * c.scale
                 );
             }
             Extent::Box { x0, y0, x1, y1 } => {
                 let _ = writeln!(
                     s,
                     r##"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="#f2f2f2" fill-opacity="0.5" stroke="#555"/>"##,
-                    px(x0),
-                    py(y1),
-                    (x1 - x0) * scale,
-                    (y1 - y0) * scale
+                    c.px(x0),
+                    c.py(y1),
+                    (x1 - x0) * c.scale,
+                    (y1 - y0) * c.scale
                 );
             }
         }
     }
-    for p in points {
-        if p.x.is_finite() && p.y.is_finite() {
-            let _ = writeln!(
-                s,
-                r##"<circle cx="{:.1}" cy="{:.1}" r="2.2" fill="{}"/>"##,
-                px(p.x),
-                py(p.y),
-                p.verdict.colour()
-            );
-        }
-    }
-    for p in map.places() {
-        let _ = writeln!(
-            s,
-            r##"<text x="{:.1}" y="{:.1}" text-anchor="middle" fill="#08306b">{}</text>"##,
-            px(p.pose.0),
-            py(p.pose.1),
-            escape(&p.name)
-        );
-    }
-    s.push_str("</svg>\n");
-    s
 }
 
 fn escape(t: &str) -> String {

@@ -107,131 +107,155 @@ impl Builder<'_> {
                 });
                 Some(MapItem::Room(RoomDecl { name, label, span }))
             }
-            R::landmark_decl => {
-                let kind = if children.first().map(|k| k.as_rule()) == Some(R::kw_beacon) {
-                    LandmarkKind::Beacon
-                } else {
-                    LandmarkKind::Landmark
-                };
-                let point = children.iter().find(|x| x.as_rule() == R::point)?.clone();
-                let pspan = self.span(&point);
-                let xy = self.numbers(point);
-                let position = Spanned::new((xy.first().copied()?, xy.get(1).copied()?), pspan);
-                let id = match children.iter().find(|x| x.as_rule() == R::integer) {
-                    Some(i) => {
-                        let ispan = self.span(i);
-                        match i.as_str().parse::<i64>() {
-                            Ok(v) => Some(Spanned::new(v, ispan)),
-                            Err(_) => {
-                                self.diags.push(Diagnostic::error(
-                                    DiagnosticKind::NumberOutOfRange {
-                                        text: i.as_str().to_string(),
-                                    },
-                                    ispan,
-                                ));
-                                None
-                            }
-                        }
-                    }
-                    None => None,
-                };
-                Some(MapItem::Landmark(LandmarkDecl {
-                    kind,
-                    name,
-                    position,
-                    id,
-                    span,
-                }))
-            }
-            R::place_decl => {
-                let Some(kind) = idents.get(1).cloned() else {
-                    self.internal("place without kind", span);
-                    return None;
-                };
-                let room = idents.get(2).cloned();
-                let pose_pair = children.iter().find(|x| x.as_rule() == R::pose)?.clone();
-                let pspan = self.span(&pose_pair);
-                let v = self.numbers(pose_pair);
-                let pose = Spanned::new(
-                    (v.first().copied()?, v.get(1).copied()?, v.get(2).copied()),
-                    pspan,
-                );
-                let extent = match children.iter().find(|x| x.as_rule() == R::extent) {
-                    Some(e) => {
-                        let espan = self.span(e);
-                        let inner = e
-                            .clone()
-                            .into_inner()
-                            .find(|x| x.as_rule() != R::kw_extent)?;
-                        let is_box = inner.as_rule() == R::box_extent;
-                        let v = self.numbers(inner);
-                        let ext = if is_box {
-                            Extent::Box(
-                                v.first().copied()?,
-                                v.get(1).copied()?,
-                                v.get(2).copied()?,
-                                v.get(3).copied()?,
-                            )
-                        } else {
-                            Extent::Radius(v.first().copied()?)
-                        };
-                        Some(Spanned::new(ext, espan))
-                    }
-                    None => None,
-                };
-                let mut features = Vec::new();
-                if let Some(body) = children.iter().find(|x| x.as_rule() == R::place_body) {
-                    for f in body.clone().into_inner() {
-                        if let Some(f) = self.feature(f) {
-                            features.push(f);
-                        }
-                    }
-                }
-                Some(MapItem::Place(PlaceDecl {
-                    name,
-                    kind,
-                    room,
-                    pose,
-                    extent,
-                    features,
-                    span,
-                }))
-            }
-            R::path_decl => {
-                let Some(to) = idents.get(1).cloned() else {
-                    self.internal("path without second end", span);
-                    return None;
-                };
-                let mut length = None;
-                let mut heading = None;
-                let mut last_kw = None;
-                for c in &children {
-                    match c.as_rule() {
-                        R::kw_length | R::kw_heading => last_kw = Some(c.as_rule()),
-                        R::number => {
-                            let n = self.number(c);
-                            if last_kw == Some(R::kw_length) {
-                                length = Some(n);
-                            } else {
-                                heading = Some(n);
-                            }
-                        }
-                        _ => {}
-                    }
-                }
-                Some(MapItem::Path(PathDecl {
-                    from: name,
-                    to,
-                    length,
-                    heading,
-                    span,
-                }))
-            }
+            R::landmark_decl => self.landmark(&children, name, span).map(MapItem::Landmark),
+            R::place_decl => self.place(&children, &idents, span).map(MapItem::Place),
+            R::path_decl => self.path(&children, &idents, span).map(MapItem::Path),
             _ => {
                 self.internal("unexpected item", span);
                 None
             }
         }
+    }
+
+    /// A `landmark` or `beacon` item from its parts; `None` when they are incomplete.
+    fn landmark(
+        &mut self,
+        children: &[Pair<'_, R>],
+        name: Ident,
+        span: Span,
+    ) -> Option<LandmarkDecl> {
+        let kind = if children.first().map(|k| k.as_rule()) == Some(R::kw_beacon) {
+            LandmarkKind::Beacon
+        } else {
+            LandmarkKind::Landmark
+        };
+        let point = children.iter().find(|x| x.as_rule() == R::point)?.clone();
+        let pspan = self.span(&point);
+        let xy = self.numbers(point);
+        let position = Spanned::new((xy.first().copied()?, xy.get(1).copied()?), pspan);
+        let id = match children.iter().find(|x| x.as_rule() == R::integer) {
+            Some(i) => {
+                let ispan = self.span(i);
+                match i.as_str().parse::<i64>() {
+                    Ok(v) => Some(Spanned::new(v, ispan)),
+                    Err(_) => {
+                        self.diags.push(Diagnostic::error(
+                            DiagnosticKind::NumberOutOfRange {
+                                text: i.as_str().to_string(),
+                            },
+                            ispan,
+                        ));
+                        None
+                    }
+                }
+            }
+            None => None,
+        };
+        Some(LandmarkDecl {
+            kind,
+            name,
+            position,
+            id,
+            span,
+        })
+    }
+
+    /// A `place` item from its parts (`idents`: name, kind, room); `None` when incomplete.
+    fn place(
+        &mut self,
+        children: &[Pair<'_, R>],
+        idents: &[Ident],
+        span: Span,
+    ) -> Option<PlaceDecl> {
+        let name = idents.first().cloned()?;
+        let Some(kind) = idents.get(1).cloned() else {
+            self.internal("place without kind", span);
+            return None;
+        };
+        let room = idents.get(2).cloned();
+        let pose_pair = children.iter().find(|x| x.as_rule() == R::pose)?.clone();
+        let pspan = self.span(&pose_pair);
+        let v = self.numbers(pose_pair);
+        let pose = Spanned::new(
+            (v.first().copied()?, v.get(1).copied()?, v.get(2).copied()),
+            pspan,
+        );
+        let extent = match children.iter().find(|x| x.as_rule() == R::extent) {
+            Some(e) => Some(self.extent(e)?),
+            None => None,
+        };
+        let mut features = Vec::new();
+        if let Some(body) = children.iter().find(|x| x.as_rule() == R::place_body) {
+            for f in body.clone().into_inner() {
+                if let Some(f) = self.feature(f) {
+                    features.push(f);
+                }
+            }
+        }
+        Some(PlaceDecl {
+            name,
+            kind,
+            room,
+            pose,
+            extent,
+            features,
+            span,
+        })
+    }
+
+    /// A place's `extent radius R` or `extent box (…)`; `None` when incomplete.
+    fn extent(&mut self, e: &Pair<'_, R>) -> Option<Spanned<Extent>> {
+        let espan = self.span(e);
+        let inner = e
+            .clone()
+            .into_inner()
+            .find(|x| x.as_rule() != R::kw_extent)?;
+        let is_box = inner.as_rule() == R::box_extent;
+        let v = self.numbers(inner);
+        let ext = if is_box {
+            Extent::Box(
+                v.first().copied()?,
+                v.get(1).copied()?,
+                v.get(2).copied()?,
+                v.get(3).copied()?,
+            )
+        } else {
+            Extent::Radius(v.first().copied()?)
+        };
+        Some(Spanned::new(ext, espan))
+    }
+
+    /// A `path` item from its parts (`idents`: both ends); `None` when incomplete.
+    fn path(&mut self, children: &[Pair<'_, R>], idents: &[Ident], span: Span) -> Option<PathDecl> {
+        let from = idents.first().cloned()?;
+        let Some(to) = idents.get(1).cloned() else {
+            self.internal("path without second end", span);
+            return None;
+        };
+        let mut length = None;
+        let mut heading = None;
+        let mut last_kw = None;
+        for c in children {
+            match c.as_rule() {
+                R::kw_length | R::kw_heading => last_kw = Some(c.as_rule()),
+                R::number => {
+                    let n = self.number(c);
+                    if last_kw == Some(R::kw_length) {
+                        length = Some(n);
+                    } else {
+                        heading = Some(n);
+                    }
+                }
+                _ => {}
+            }
+        }
+        Some(PathDecl {
+            from,
+            to,
+            length,
+            heading,
+            span,
+        })
     }
 
     fn feature(&mut self, p: Pair<'_, R>) -> Option<Feature> {

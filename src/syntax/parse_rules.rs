@@ -10,7 +10,7 @@ use super::diagnostic::{Diagnostic, DiagnosticKind};
 use super::grammar::{rules_label, RulesGrammar, RulesRule as R};
 use super::recover::{pair_number, pair_span, parse_items};
 use super::span::{Ident, Span, Spanned};
-use pest::iterators::Pair;
+use pest::iterators::{Pair, Pairs};
 
 /// Parses a rule file. On failure returns every syntax error found (sorted by position).
 ///
@@ -90,26 +90,7 @@ impl Builder<'_> {
         let kind = p.as_rule();
         let mut it = p.into_inner();
         match kind {
-            R::logic_block => {
-                let mut settings = Vec::new();
-                for s in it.filter(|s| s.as_rule() == R::setting) {
-                    let sspan = self.span(&s);
-                    let mut si = s.into_inner();
-                    let key = self.next(&mut si, sspan, "setting without key")?;
-                    let value = self.next(&mut si, sspan, "setting without value")?;
-                    let vspan = self.span(&value);
-                    let v = if value.as_rule() == R::number {
-                        SettingValue::Number(self.number(&value).node)
-                    } else {
-                        SettingValue::Word(value.as_str().to_string())
-                    };
-                    settings.push(Setting {
-                        key: self.ident(&key),
-                        value: Spanned::new(v, vspan),
-                    });
-                }
-                Some(RuleItem::Logic(LogicBlock { settings, span }))
-            }
+            R::logic_block => self.logic_block(it, span).map(RuleItem::Logic),
             R::domain_decl => {
                 it.next(); // keyword
                 let name = self.next(&mut it, span, "domain without name")?;
@@ -117,77 +98,108 @@ impl Builder<'_> {
                 let values = it.map(|v| self.ident(&v)).collect();
                 Some(RuleItem::Domain(DomainDecl { name, values, span }))
             }
-            R::similarity_decl => {
-                it.next();
-                let name = self.next(&mut it, span, "similarity without name")?;
-                let name = self.ident(&name);
-                let shape = self.next(&mut it, span, "similarity without shape")?;
-                let shape = self.ident(&shape);
-                let mut fields = Vec::new();
-                for f in it {
-                    let fspan = self.span(&f);
-                    let mut fi = f.into_inner();
-                    let k = self.next(&mut fi, fspan, "field without name")?;
-                    let v = self.next(&mut fi, fspan, "field without value")?;
-                    fields.push((self.ident(&k), self.number(&v)));
-                }
-                Some(RuleItem::Similarity(SimilarityDecl {
-                    name,
-                    shape,
-                    fields,
-                    span,
-                }))
-            }
-            R::percept_decl | R::predicate_decl => {
-                it.next();
-                let name = self.next(&mut it, span, "declaration without name")?;
-                let name = self.ident(&name);
-                let mut roles = Vec::new();
-                let mut similarity = None;
-                for x in it {
-                    match x.as_rule() {
-                        R::roles => roles = x.into_inner().map(|r| self.role(&r)).collect(),
-                        _ => similarity = Some(self.ident(&x)),
-                    }
-                }
-                if kind == R::percept_decl {
-                    Some(RuleItem::Percept(PerceptDecl {
-                        name,
-                        roles,
-                        similarity,
-                        span,
-                    }))
-                } else {
-                    Some(RuleItem::Predicate(PredicateDecl { name, roles, span }))
-                }
-            }
-            R::rule => {
-                let mut schemas = Vec::new();
-                let mut sequent = None;
-                for x in it {
-                    match x.as_rule() {
-                        R::schema => schemas.push(self.schema(x)?),
-                        R::sequent => sequent = Some(self.sequent(x)?),
-                        _ => {}
-                    }
-                }
-                let Some((body, head, weight)) = sequent else {
-                    self.diags.push(internal("rule without sequent", span));
-                    return None;
-                };
-                Some(RuleItem::Rule(Rule {
-                    schemas,
-                    body,
-                    head,
-                    weight,
-                    span,
-                }))
-            }
+            R::similarity_decl => self.similarity(it, span).map(RuleItem::Similarity),
+            R::percept_decl | R::predicate_decl => self.declaration(kind, it, span),
+            R::rule => self.rule(it, span).map(RuleItem::Rule),
             _ => {
                 self.diags.push(internal("unexpected item", span));
                 None
             }
         }
+    }
+
+    /// The settings of a `logic { … }` block.
+    fn logic_block(&mut self, it: Pairs<'_, R>, span: Span) -> Option<LogicBlock> {
+        let mut settings = Vec::new();
+        for s in it.filter(|s| s.as_rule() == R::setting) {
+            let sspan = self.span(&s);
+            let mut si = s.into_inner();
+            let key = self.next(&mut si, sspan, "setting without key")?;
+            let value = self.next(&mut si, sspan, "setting without value")?;
+            let vspan = self.span(&value);
+            let v = if value.as_rule() == R::number {
+                SettingValue::Number(self.number(&value).node)
+            } else {
+                SettingValue::Word(value.as_str().to_string())
+            };
+            settings.push(Setting {
+                key: self.ident(&key),
+                value: Spanned::new(v, vspan),
+            });
+        }
+        Some(LogicBlock { settings, span })
+    }
+
+    /// A `similarity NAME = SHAPE(field: value, …)` declaration.
+    fn similarity(&mut self, mut it: Pairs<'_, R>, span: Span) -> Option<SimilarityDecl> {
+        it.next();
+        let name = self.next(&mut it, span, "similarity without name")?;
+        let name = self.ident(&name);
+        let shape = self.next(&mut it, span, "similarity without shape")?;
+        let shape = self.ident(&shape);
+        let mut fields = Vec::new();
+        for f in it {
+            let fspan = self.span(&f);
+            let mut fi = f.into_inner();
+            let k = self.next(&mut fi, fspan, "field without name")?;
+            let v = self.next(&mut fi, fspan, "field without value")?;
+            fields.push((self.ident(&k), self.number(&v)));
+        }
+        Some(SimilarityDecl {
+            name,
+            shape,
+            fields,
+            span,
+        })
+    }
+
+    /// A `percept` or `predicate` declaration (`kind` says which).
+    fn declaration(&mut self, kind: R, mut it: Pairs<'_, R>, span: Span) -> Option<RuleItem> {
+        it.next();
+        let name = self.next(&mut it, span, "declaration without name")?;
+        let name = self.ident(&name);
+        let mut roles = Vec::new();
+        let mut similarity = None;
+        for x in it {
+            match x.as_rule() {
+                R::roles => roles = x.into_inner().map(|r| self.role(&r)).collect(),
+                _ => similarity = Some(self.ident(&x)),
+            }
+        }
+        if kind == R::percept_decl {
+            Some(RuleItem::Percept(PerceptDecl {
+                name,
+                roles,
+                similarity,
+                span,
+            }))
+        } else {
+            Some(RuleItem::Predicate(PredicateDecl { name, roles, span }))
+        }
+    }
+
+    /// A rule: its schemas (`for all …`) and its sequent.
+    fn rule(&mut self, it: Pairs<'_, R>, span: Span) -> Option<Rule> {
+        let mut schemas = Vec::new();
+        let mut sequent = None;
+        for x in it {
+            match x.as_rule() {
+                R::schema => schemas.push(self.schema(x)?),
+                R::sequent => sequent = Some(self.sequent(x)?),
+                _ => {}
+            }
+        }
+        let Some((body, head, weight)) = sequent else {
+            self.diags.push(internal("rule without sequent", span));
+            return None;
+        };
+        Some(Rule {
+            schemas,
+            body,
+            head,
+            weight,
+            span,
+        })
     }
 
     fn role(&self, p: &Pair<'_, R>) -> Spanned<ArgRole> {

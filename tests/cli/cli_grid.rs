@@ -107,6 +107,74 @@ fn malformed_stream_lines_are_reported_and_give_exit_3() {
     assert!(String::from_utf8_lossy(&out.stdout).contains("ATE"));
 }
 
+/// Runs `lplace grid --json` on `lines` and returns (exit code, scores, stderr).
+fn grid_json(name: &str, lines: &[String]) -> (i32, serde_json::Value, String) {
+    let (_d, map, stream) = setup(name, lines);
+    let out = lplace()
+        .arg("grid")
+        .arg("--map")
+        .arg(&map)
+        .arg(&stream)
+        .arg("--json")
+        .output()
+        .unwrap();
+    let v = serde_json::from_slice(&out.stdout).unwrap();
+    let code = out.status.code().unwrap_or(-1);
+    (code, v, String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+#[test]
+fn grid_rejects_a_degree_above_one_with_its_line_and_exit_3() {
+    let mut lines: Vec<String> = (0..4).map(|k| frame(k as f64)).collect();
+    lines[2] = lines[2].replacen(r#""degree":1.0"#, r#""degree":1.5"#, 1);
+    let (code, v, err) = grid_json("degree", &lines);
+    assert_eq!(code, 3, "{err}");
+    // The first percept of `frame` is A's range; the whole record (line 3) is skipped.
+    assert!(
+        err.contains("s.jsonl:3: percept `landmark_range(A)`: degree 1.5 is outside [0, 1]"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(v["frames"], 3, "{v}");
+    assert_eq!(v["rejected_lines"], 1, "{v}");
+}
+
+#[test]
+fn grid_rejects_time_going_backwards_with_its_line_and_exit_3() {
+    let mut lines: Vec<String> = (0..4).map(|k| frame(k as f64)).collect();
+    lines.insert(3, frame(0.5));
+    let (code, v, err) = grid_json("backwards", &lines);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.contains("s.jsonl:4: time goes backwards: t = 0.5 after t = 2"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(v["frames"], 4, "{v}");
+    assert_eq!(v["rejected_lines"], 1, "{v}");
+}
+
+#[test]
+fn grid_takes_other_robots_as_unknown_subjects_and_rejects_undeclared_names() {
+    // Ids 1–3 are the tiny map's landmarks, so `extract` would call robots 4 and 5 by name.
+    let robot = r#"{"name":"landmark_range","args":["Robot4"],"value":2.0,"degree":1.0},{"name":"landmark_bearing","args":["Robot4"],"value":10.0,"degree":1.0},"#;
+    let stranger = r#"{"name":"landmark_range","args":["Robot1"],"value":2.0,"degree":1.0},"#;
+    let mut lines: Vec<String> = (0..4).map(|k| frame(k as f64)).collect();
+    lines[1] = lines[1].replacen(r#""percepts":["#, &format!(r#""percepts":[{robot}"#), 1);
+    let (code, v, err) = grid_json("robots", &lines);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(v["frames"], 4, "{v}");
+    assert_eq!(v["unknown"], 1, "{v}");
+    lines[2] = lines[2].replacen(r#""percepts":["#, &format!(r#""percepts":[{stranger}"#), 1);
+    let (code, v, err) = grid_json("stranger", &lines);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.contains("s.jsonl:3: unknown percept `landmark_range(Robot1)`"),
+        "{err}"
+    );
+    assert_eq!(v["frames"], 3, "{v}");
+}
+
 #[test]
 fn bad_arguments_and_missing_files_have_their_exit_codes() {
     let lines = vec![frame(0.0)];
