@@ -67,6 +67,20 @@ pub fn named_set(name: &str, map: &Map, rules: &RuleSet) -> Option<PlaceSet> {
     (!ks.is_empty()).then(|| PlaceSet::from_indices(n, ks))
 }
 
+/// Every bare name a query (or a stream record's `region` field) can use: places, rooms,
+/// regions, then kinds, each once.
+pub fn set_names(map: &Map, rules: &RuleSet) -> Vec<String> {
+    let mut names: Vec<String> = map.places().iter().map(|p| p.name.clone()).collect();
+    names.extend(map.rooms().iter().map(|r| r.name.clone()));
+    names.extend(rules.regions.iter().map(|(g, _)| g.clone()));
+    for p in map.places() {
+        if !names.contains(&p.kind) {
+            names.push(p.kind.clone());
+        }
+    }
+    names
+}
+
 /// Parses and resolves a query.
 pub fn resolve(text: &str, map: &Map, rules: &RuleSet) -> Result<PlaceSet, QueryError> {
     let f = parse_query(text).map_err(|diagnostics| QueryError::Syntax { diagnostics })?;

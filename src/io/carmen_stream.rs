@@ -163,6 +163,7 @@ impl<'m> CarmenFramer<'m> {
             heading,
             percepts,
             truth,
+            region: None,
         }
     }
 }
