@@ -26,8 +26,12 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
+/// The counter is global: tests that count take turns, or one's setup shows in the other's count.
+static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 #[test]
 fn step_allocates_nothing() {
+    let _turn = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let mut engine = Engine::office().expect("office loads");
     let mut frames: Vec<_> = (0..16).map(|_| engine.new_frame()).collect();
     for (i, f) in frames.iter_mut().enumerate() {
@@ -59,6 +63,7 @@ fn step_allocates_nothing() {
 /// `step_within` allocates nothing either (every buffer is sized at load time).
 #[test]
 fn step_within_groups_and_regions_allocates_nothing() {
+    let _turn = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     use lplace::engine::OFFICE_MAP;
     use lplace::syntax::diagnostic::SourceFile;
     let rules = lplace::engine::OFFICE_RULES.replace(
@@ -97,6 +102,11 @@ fn step_within_groups_and_regions_allocates_nothing() {
         }
     }
     let after = ALLOCATIONS.load(Ordering::SeqCst);
-    assert_eq!(after - before, 0, "step_within allocated {} times", after - before);
+    assert_eq!(
+        after - before,
+        0,
+        "step_within allocated {} times",
+        after - before
+    );
     assert!(chosen <= 1000);
 }

@@ -109,14 +109,20 @@ path P1 -- P2; path P2 -- P3;
 ";
 
 fn load(map: &str, rules: &str) -> Engine {
-    match Engine::load(&SourceFile::new("t.map", map), &SourceFile::new("t.lpl", rules)) {
+    match Engine::load(
+        &SourceFile::new("t.map", map),
+        &SourceFile::new("t.lpl", rules),
+    ) {
         Ok(e) => e,
         Err(e) => panic!("{e}: {:?}", e.diagnostics),
     }
 }
 
 fn load_err(map: &str, rules: &str) -> Vec<DiagnosticKind> {
-    match Engine::load(&SourceFile::new("t.map", map), &SourceFile::new("t.lpl", rules)) {
+    match Engine::load(
+        &SourceFile::new("t.map", map),
+        &SourceFile::new("t.lpl", rules),
+    ) {
         Ok(_) => panic!("expected the rules to be rejected"),
         Err(e) => e.diagnostics.into_iter().map(|d| d.kind).collect(),
     }
@@ -154,11 +160,17 @@ fn textbook_region_base_and_queries() {
     e.step(&f);
     let d = e.distribution();
     for (k, want) in [1.0, 0.6, 0.3].into_iter().enumerate() {
-        assert!(close(d.possibility_raw[k], want), "π[{k}] = {}", d.possibility_raw[k]);
+        assert!(
+            close(d.possibility_raw[k], want),
+            "π[{k}] = {}",
+            d.possibility_raw[k]
+        );
     }
     assert!(close(d.necessity[0], 0.4));
     let q = |text: &str| {
-        let set = e.query_set(text).unwrap_or_else(|err| panic!("{text}: {err}"));
+        let set = e
+            .query_set(text)
+            .unwrap_or_else(|err| panic!("{text}: {err}"));
         e.set_degrees(&set)
     };
     assert!(close(q("A").1, 0.7));
@@ -198,7 +210,11 @@ fn textbook_inconsistency_degree_and_necessity() {
     e.step(&f);
     let d = e.distribution();
     for (k, want) in [0.7, 0.4, 0.2, 0.2].into_iter().enumerate() {
-        assert!(close(d.possibility_raw[k], want), "π[{k}] = {}", d.possibility_raw[k]);
+        assert!(
+            close(d.possibility_raw[k], want),
+            "π[{k}] = {}",
+            d.possibility_raw[k]
+        );
     }
     assert!(close(d.inconsistency, 0.3));
     let q = e.query_set("Qw").expect("a region");
@@ -279,7 +295,11 @@ fn product_and_min_fusion_of_two_groups() {
         e.step(&f);
         let d = e.distribution();
         assert!(close(d.possibility_raw[0], 1.0) && close(d.possibility_raw[1], 0.6));
-        assert!(close(d.possibility_raw[2], p3), "{fusion}: {}", d.possibility_raw[2]);
+        assert!(
+            close(d.possibility_raw[2], p3),
+            "{fusion}: {}",
+            d.possibility_raw[2]
+        );
         let a = e.query_set("A").expect("a region");
         assert!(close(e.set_degrees(&a).1, n12), "{fusion}");
     }
@@ -292,14 +312,21 @@ fn product_and_min_fusion_of_two_groups() {
 #[test]
 fn min_and_product_conditioning_on_a_known_region() {
     // The logic layer alone.
-    for (norm, w3) in [(Normalisation::Min, 0.4), (Normalisation::Product, 0.4 / 0.7)] {
+    for (norm, w3) in [
+        (Normalisation::Min, 0.4),
+        (Normalisation::Product, 0.4 / 0.7),
+    ] {
         let mut d = PlaceDistribution::new(3);
         d.possibility_raw.copy_from_slice(&[1.0, 0.7, 0.4]);
         d.condition(&PlaceSet::from_indices(3, [1, 2]));
         d.finish(norm);
         assert_eq!(d.possibility[0], 0.0);
         assert!(close(d.possibility[1], 1.0));
-        assert!(close(d.possibility[2], w3), "{norm:?}: {}", d.possibility[2]);
+        assert!(
+            close(d.possibility[2], w3),
+            "{norm:?}: {}",
+            d.possibility[2]
+        );
         assert!(close(d.inconsistency, 0.3));
     }
     assert!(close(0.4 / 0.7, 0.571_428_571_428_571_4));
@@ -310,7 +337,10 @@ fn min_and_product_conditioning_on_a_known_region() {
         |- (1 -> in_region(A), 0.6);
     ";
     for (norm, w3) in [("min", 0.4), ("product", 0.4 / 0.7)] {
-        let mut e = load(MAP3, &format!("logic {{ normalisation = {norm}; }} {rules}"));
+        let mut e = load(
+            MAP3,
+            &format!("logic {{ normalisation = {norm}; }} {rules}"),
+        );
         let known = e.query_set("P2 (+) P3").expect("places");
         let f = e.new_frame();
         e.step_within(&f, Some(&known));

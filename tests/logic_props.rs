@@ -625,18 +625,29 @@ fn normalise_reference(pi: &[f64], norm: Normalisation) -> Vec<f64> {
 
 fn set_base(n: usize) -> impl Strategy<Value = Vec<SetFormula>> {
     prop::collection::vec(
-        (prop::collection::vec(any::<bool>(), n), any::<bool>(), degree()).prop_map(
-            |(members, negated, weight)| SetFormula {
+        (
+            prop::collection::vec(any::<bool>(), n),
+            any::<bool>(),
+            degree(),
+        )
+            .prop_map(|(members, negated, weight)| SetFormula {
                 members,
                 negated,
                 weight,
-            },
-        ),
+            }),
         0..8,
     )
 }
 
-fn sets_case() -> impl Strategy<Value = (usize, Vec<SetFormula>, Vec<SetFormula>, Vec<bool>, Vec<bool>)> {
+fn sets_case() -> impl Strategy<
+    Value = (
+        usize,
+        Vec<SetFormula>,
+        Vec<SetFormula>,
+        Vec<bool>,
+        Vec<bool>,
+    ),
+> {
     (1usize..7).prop_flat_map(|n| {
         (
             Just(n),

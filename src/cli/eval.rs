@@ -9,8 +9,8 @@
 
 use super::args::{ArgError, EvalArgs, Format, StreamForm, SummaryFormat};
 use super::{load_engine, CliError, EXIT_OK, EXIT_REJECTED};
-use crate::engine::tracker::{PlaceTracker, TrackerConfig};
 use crate::engine::outcome::QueryOutcome;
+use crate::engine::tracker::{PlaceTracker, TrackerConfig};
 use crate::engine::{CompileOptions, Engine};
 use crate::io::record::FrameRecord;
 use crate::io::stream::{
@@ -50,14 +50,10 @@ fn run_frame(args: &EvalArgs, json: &str, out: &mut impl Write) -> Result<u8, Cl
     }
     let queries = resolve_queries(&engine, &args.query)?;
     let known = match &record.region {
-        Some(name) => Some(
-            engine
-                .query_set(name)
-                .map_err(|error| ArgError::Query {
-                    query: name.clone(),
-                    error,
-                })?,
-        ),
+        Some(name) => Some(engine.query_set(name).map_err(|error| ArgError::Query {
+            query: name.clone(),
+            error,
+        })?),
         None => None,
     };
     engine.step_within(&frame, known.as_ref());
@@ -67,7 +63,11 @@ fn run_frame(args: &EvalArgs, json: &str, out: &mut impl Write) -> Result<u8, Cl
         let (possibility, necessity) = engine.set_degrees(set);
         outcome.queries.push(QueryOutcome {
             query: q.clone(),
-            places: set.indices().filter_map(|k| place_names.get(k)).map(|p| p.name.clone()).collect(),
+            places: set
+                .indices()
+                .filter_map(|k| place_names.get(k))
+                .map(|p| p.name.clone())
+                .collect(),
             possibility,
             necessity,
         });
@@ -114,6 +114,13 @@ fn run_frame(args: &EvalArgs, json: &str, out: &mut impl Write) -> Result<u8, Cl
                     p.place, p.support, p.exclusion, p.possibility_raw, p.possibility, p.necessity
                 )?;
             }
+            for r in &outcome.rooms {
+                writeln!(
+                    out,
+                    "room {:<3} support {:.3}  Π {:.3}  N {:.3}",
+                    r.room, r.support, r.possibility, r.necessity
+                )?;
+            }
             for r in &outcome.regions {
                 writeln!(
                     out,
@@ -129,13 +136,6 @@ fn run_frame(args: &EvalArgs, json: &str, out: &mut impl Write) -> Result<u8, Cl
                     q.places.join(", "),
                     q.possibility,
                     q.necessity
-                )?;
-            }
-            for r in &outcome.rooms {
-                writeln!(
-                    out,
-                    "room {:<3} support {:.3}  Π {:.3}  N {:.3}",
-                    r.room, r.support, r.possibility, r.necessity
                 )?;
             }
             for f in &outcome.fired {
@@ -155,7 +155,10 @@ fn run_frame(args: &EvalArgs, json: &str, out: &mut impl Write) -> Result<u8, Cl
 }
 
 /// Resolves every `--query` against the engine's map and rules.
-fn resolve_queries(engine: &Engine, queries: &[String]) -> Result<Vec<(String, PlaceSet)>, CliError> {
+fn resolve_queries(
+    engine: &Engine,
+    queries: &[String],
+) -> Result<Vec<(String, PlaceSet)>, CliError> {
     let mut out = Vec::new();
     for q in queries {
         let set = engine.query_set(q).map_err(|error| ArgError::Query {
@@ -316,7 +319,11 @@ impl Session<'_> {
                     write_degree(out, set.possibility(&dist.possibility))?;
                     out.write_all(b",")?;
                     write_degree(out, set.necessity(&dist.possibility))?;
-                    out.write_all(if i + 1 == self.queries.len() { b"]]" } else { b"]" })?;
+                    out.write_all(if i + 1 == self.queries.len() {
+                        b"]]"
+                    } else {
+                        b"]"
+                    })?;
                 }
                 if self.args.degrees {
                     for (key, v) in [

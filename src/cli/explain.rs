@@ -31,7 +31,11 @@ pub fn run(args: &ExplainArgs, out: &mut impl Write) -> Result<u8, CliError> {
     explain_places(&engine, args, out)
 }
 
-fn explain_places(engine: &Engine, args: &ExplainArgs, out: &mut impl Write) -> Result<u8, CliError> {
+fn explain_places(
+    engine: &Engine,
+    args: &ExplainArgs,
+    out: &mut impl Write,
+) -> Result<u8, CliError> {
     let places = engine.map().places();
     let chosen: Vec<usize> = match &args.place {
         None => (0..places.len()).collect(),
@@ -86,7 +90,11 @@ fn explain_places(engine: &Engine, args: &ExplainArgs, out: &mut impl Write) -> 
         }
         for (g, (region, _)) in engine.rules().regions.iter().enumerate() {
             if let Some(&reg) = c.regions.get(g) {
-                writeln!(out, "in_region({region}) = {}", c.tape.render(reg, &c.percepts))?;
+                writeln!(
+                    out,
+                    "in_region({region}) = {}",
+                    c.tape.render(reg, &c.percepts)
+                )?;
             }
         }
         for h in &c.set_heads {
@@ -112,7 +120,12 @@ fn explain_atom(
 ) -> Result<u8, CliError> {
     let rules = engine.rules();
     if !rules.predicates.contains_key(name) {
-        let known = rules.predicates.keys().cloned().collect::<Vec<_>>().join(", ");
+        let known = rules
+            .predicates
+            .keys()
+            .cloned()
+            .collect::<Vec<_>>()
+            .join(", ");
         return Err(ArgError::UnknownPredicate {
             name: name.to_string(),
             known,

@@ -688,11 +688,10 @@ fn members_of(atom: &GroundAtom, rules: &RuleSet, map: &Map) -> PlaceSet {
             let places = map.places().iter().enumerate();
             PlaceSet::from_indices(n, places.filter(|(_, p)| p.room == r).map(|(k, _)| k))
         }
-        _ => rules
-            .regions
-            .iter()
-            .find(|(g, _)| g == arg)
-            .map_or_else(|| PlaceSet::empty(n), |(_, ks)| PlaceSet::from_indices(n, ks.iter().copied())),
+        _ => rules.regions.iter().find(|(g, _)| g == arg).map_or_else(
+            || PlaceSet::empty(n),
+            |(_, ks)| PlaceSet::from_indices(n, ks.iter().copied()),
+        ),
     }
 }
 
@@ -716,9 +715,16 @@ fn outputs(
             .collect();
         b.fold(&parts, Op::Max, 0.0)
     };
-    let places: Vec<GroundAtom> = map.places().iter().map(|p| unary("at_place", &p.name)).collect();
+    let places: Vec<GroundAtom> = map
+        .places()
+        .iter()
+        .map(|p| unary("at_place", &p.name))
+        .collect();
     let per_place = |b: &mut Builder, negated: bool, group: Option<usize>| -> Vec<Reg> {
-        places.iter().map(|a| global(b, a, negated, group)).collect()
+        places
+            .iter()
+            .map(|a| global(b, a, negated, group))
+            .collect()
     };
     let support = per_place(b, false, None);
     let exclusion = per_place(b, true, None);
@@ -750,19 +756,31 @@ fn outputs(
             }
         }
     }
-    let support_of = |b: &mut Builder, name: &str, arg: &str| global(b, &unary(name, arg), false, None);
-    let rooms = map.rooms().iter().map(|r| support_of(b, "in_room", &r.name)).collect();
-    let regions = rules.regions.iter().map(|(g, _)| support_of(b, "in_region", g)).collect();
+    let support_of =
+        |b: &mut Builder, name: &str, arg: &str| global(b, &unary(name, arg), false, None);
+    let rooms = map
+        .rooms()
+        .iter()
+        .map(|r| support_of(b, "in_room", &r.name))
+        .collect();
+    let regions = rules
+        .regions
+        .iter()
+        .map(|(g, _)| support_of(b, "in_region", g))
+        .collect();
     let asked: std::collections::BTreeSet<GroundAtom> = d
         .acc
         .keys()
         .filter(|(a, neg, _)| !neg && opts.derived.iter().any(|x| x == &a.name))
         .map(|(a, _, _)| a.clone())
         .collect();
-    let derived = asked.into_iter().map(|a| {
-        let r = global(b, &a, false, None);
-        (a, r)
-    }).collect();
+    let derived = asked
+        .into_iter()
+        .map(|a| {
+            let r = global(b, &a, false, None);
+            (a, r)
+        })
+        .collect();
     let derived_in_context = d
         .acc
         .iter()
@@ -829,7 +847,9 @@ fn prune(
     out.rooms.iter_mut().for_each(rn);
     out.regions.iter_mut().for_each(rn);
     out.derived.iter_mut().for_each(|(_, r)| rn(r));
-    out.derived_in_context.iter_mut().for_each(|(_, _, r)| rn(r));
+    out.derived_in_context
+        .iter_mut()
+        .for_each(|(_, _, r)| rn(r));
     out.set_heads.iter_mut().for_each(|h| rn(&mut h.reg));
     out.group_support.iter_mut().flatten().for_each(rn);
     out.group_exclusion.iter_mut().flatten().for_each(rn);

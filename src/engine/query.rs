@@ -62,7 +62,11 @@ pub fn named_set(name: &str, map: &Map, rules: &RuleSet) -> Option<PlaceSet> {
     if let Some((_, ks)) = rules.regions.iter().find(|(g, _)| g == name) {
         return Some(PlaceSet::from_indices(n, ks.iter().copied()));
     }
-    let kind = map.places().iter().enumerate().filter(|(_, p)| p.kind == name);
+    let kind = map
+        .places()
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.kind == name);
     let ks: Vec<usize> = kind.map(|(k, _)| k).collect();
     (!ks.is_empty()).then(|| PlaceSet::from_indices(n, ks))
 }
@@ -121,7 +125,11 @@ fn set_of(f: &Spanned<Formula>, map: &Map, rules: &RuleSet) -> Result<PlaceSet, 
                     Term::Const(c) => c.as_str(),
                     _ => return Err(unsupported("an argument other than a name")),
                 },
-                _ => return Err(unsupported("an atom other than at_place, in_room, in_region")),
+                _ => {
+                    return Err(unsupported(
+                        "an atom other than at_place, in_room, in_region",
+                    ))
+                }
             };
             named_set(arg, map, rules).ok_or_else(|| QueryError::UnknownName {
                 name: arg.to_string(),
