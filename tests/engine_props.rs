@@ -207,8 +207,10 @@ struct GenRule {
     group: usize,
 }
 
-fn gen_case() -> impl Strategy<Value = (usize, Vec<GenRule>, Vec<bool>, Vec<bool>, bool, bool, bool)>
-{
+/// Places, rules, known region, query set, product fusion?, product normalisation?, conditioned?
+type GenCase = (usize, Vec<GenRule>, Vec<bool>, Vec<bool>, bool, bool, bool);
+
+fn gen_case() -> impl Strategy<Value = GenCase> {
     (2usize..6).prop_flat_map(|n| {
         let rule = (
             prop::collection::vec(any::<bool>(), n),

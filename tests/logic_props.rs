@@ -639,15 +639,19 @@ fn set_base(n: usize) -> impl Strategy<Value = Vec<SetFormula>> {
     )
 }
 
-fn sets_case() -> impl Strategy<
-    Value = (
-        usize,
-        Vec<SetFormula>,
-        Vec<SetFormula>,
-        Vec<bool>,
-        Vec<bool>,
-    ),
-> {
+/// Places, two bases, a query set and a known region (membership per place).
+type SetsCase = (
+    usize,
+    Vec<SetFormula>,
+    Vec<SetFormula>,
+    Vec<bool>,
+    Vec<bool>,
+);
+
+/// Membership of a world in a set, written independently of `PlaceSet`.
+type Membership<'a> = Box<dyn Fn(usize) -> bool + 'a>;
+
+fn sets_case() -> impl Strategy<Value = SetsCase> {
     (1usize..7).prop_flat_map(|n| {
         (
             Just(n),
@@ -707,7 +711,7 @@ proptest! {
 
         let s = PlaceSet::from_indices(n, (0..n).filter(|&k| query[k]));
         let poss = |a: &dyn Fn(usize) -> bool| possibility_of(&pi_norm, a);
-        let cases: [(PlaceSet, Box<dyn Fn(usize) -> bool>); 4] = [
+        let cases: [(PlaceSet, Membership); 4] = [
             (s.clone(), Box::new(|w| query[w])),
             (s.complement(), Box::new(|w| !query[w])),
             (s.intersection(&known_set), Box::new(|w| query[w] && known[w])),

@@ -89,69 +89,72 @@ fn run_frame(args: &EvalArgs, json: &str, out: &mut impl Write) -> Result<u8, Cl
                 outcome.inconsistency
             )?;
         }
-        Format::Table => {
-            match (&outcome.place, outcome.reason) {
-                (Some(p), _) => writeln!(
-                    out,
-                    "place {p} (N = {:.3})",
-                    outcome.necessity.unwrap_or(0.0)
-                )?,
-                (None, Some(r)) => {
-                    writeln!(out, "disoriented: {r} {}", outcome.candidates.join(" vs "))?
-                }
-                (None, None) => writeln!(out, "disoriented")?,
-            }
-            writeln!(out, "Inc = {:.3}", outcome.inconsistency)?;
-            writeln!(
-                out,
-                "{:<8} {:>7} {:>7} {:>7} {:>7} {:>7}",
-                "place", "support", "exclude", "π", "Π", "N"
-            )?;
-            for p in &outcome.places {
-                writeln!(
-                    out,
-                    "{:<8} {:>7.3} {:>7.3} {:>7.3} {:>7.3} {:>7.3}",
-                    p.place, p.support, p.exclusion, p.possibility_raw, p.possibility, p.necessity
-                )?;
-            }
-            for r in &outcome.rooms {
-                writeln!(
-                    out,
-                    "room {:<3} support {:.3}  Π {:.3}  N {:.3}",
-                    r.room, r.support, r.possibility, r.necessity
-                )?;
-            }
-            for r in &outcome.regions {
-                writeln!(
-                    out,
-                    "region {} support {:.3}  Π {:.3}  N {:.3}",
-                    r.room, r.support, r.possibility, r.necessity
-                )?;
-            }
-            for q in &outcome.queries {
-                writeln!(
-                    out,
-                    "query {} = {{{}}}  Π {:.3}  N {:.3}",
-                    q.query,
-                    q.places.join(", "),
-                    q.possibility,
-                    q.necessity
-                )?;
-            }
-            for f in &outcome.fired {
-                writeln!(
-                    out,
-                    "  rule {} @{} [{}] ⊢ {} = {:.3}",
-                    f.rule,
-                    f.context,
-                    f.binding.join(" "),
-                    f.head,
-                    f.degree
-                )?;
-            }
-        }
+        Format::Table => write_table(&outcome, out)?,
     }
     Ok(EXIT_OK)
+}
+
+/// The `--frame` outcome as a table: the decision, Inc, per place α, β, π, Π, N, then rooms,
+/// regions, queries and fired rules.
+fn write_table(outcome: &crate::engine::Outcome, out: &mut impl Write) -> std::io::Result<()> {
+    match (&outcome.place, outcome.reason) {
+        (Some(p), _) => writeln!(
+            out,
+            "place {p} (N = {:.3})",
+            outcome.necessity.unwrap_or(0.0)
+        )?,
+        (None, Some(r)) => writeln!(out, "disoriented: {r} {}", outcome.candidates.join(" vs "))?,
+        (None, None) => writeln!(out, "disoriented")?,
+    }
+    writeln!(out, "Inc = {:.3}", outcome.inconsistency)?;
+    writeln!(
+        out,
+        "{:<8} {:>7} {:>7} {:>7} {:>7} {:>7}",
+        "place", "support", "exclude", "π", "Π", "N"
+    )?;
+    for p in &outcome.places {
+        writeln!(
+            out,
+            "{:<8} {:>7.3} {:>7.3} {:>7.3} {:>7.3} {:>7.3}",
+            p.place, p.support, p.exclusion, p.possibility_raw, p.possibility, p.necessity
+        )?;
+    }
+    for r in &outcome.rooms {
+        writeln!(
+            out,
+            "room {:<3} support {:.3}  Π {:.3}  N {:.3}",
+            r.room, r.support, r.possibility, r.necessity
+        )?;
+    }
+    for r in &outcome.regions {
+        writeln!(
+            out,
+            "region {} support {:.3}  Π {:.3}  N {:.3}",
+            r.room, r.support, r.possibility, r.necessity
+        )?;
+    }
+    for q in &outcome.queries {
+        writeln!(
+            out,
+            "query {} = {{{}}}  Π {:.3}  N {:.3}",
+            q.query,
+            q.places.join(", "),
+            q.possibility,
+            q.necessity
+        )?;
+    }
+    for f in &outcome.fired {
+        writeln!(
+            out,
+            "  rule {} @{} [{}] ⊢ {} = {:.3}",
+            f.rule,
+            f.context,
+            f.binding.join(" "),
+            f.head,
+            f.degree
+        )?;
+    }
+    Ok(())
 }
 
 /// Resolves every `--query` against the engine's map and rules.

@@ -704,17 +704,6 @@ fn outputs(
     d: &Derivations,
     opts: &CompileOptions,
 ) -> Outputs {
-    let n_places = map.places().len();
-    // Global degree of a ground atom in one group (None: pooled): the max over contexts.
-    let global = |b: &mut Builder, atom: &GroundAtom, negated: bool, group: Option<usize>| {
-        let parts: Vec<Reg> = (0..n_places)
-            .filter_map(|ctx| match group {
-                None => d.acc.get(&(atom.clone(), negated, ctx)).copied(),
-                Some(g) => d.grouped.get(&(g, atom.clone(), negated, ctx)).copied(),
-            })
-            .collect();
-        b.fold(&parts, Op::Max, 0.0)
-    };
     let places: Vec<GroundAtom> = map
         .places()
         .iter()
@@ -723,7 +712,7 @@ fn outputs(
     let per_place = |b: &mut Builder, negated: bool, group: Option<usize>| -> Vec<Reg> {
         places
             .iter()
-            .map(|a| global(b, a, negated, group))
+            .map(|a| global(b, d, map, a, negated, group))
             .collect()
     };
     let support = per_place(b, false, None);
@@ -736,57 +725,18 @@ fn outputs(
             group_exclusion.push(per_place(b, true, Some(g)));
         }
     }
-    let sets = named_sets(rules, map);
-    let mut set_heads = Vec::new();
-    for atom in &sets {
-        for negated in [false, true] {
-            for g in 0..n_groups {
-                let group = (n_groups > 1).then_some(g);
-                let reg = global(b, atom, negated, group);
-                if b.konst(reg) == Some(0.0) {
-                    continue; // concluded nowhere: no constraint
-                }
-                set_heads.push(SetHead {
-                    atom: atom.clone(),
-                    members: members_of(atom, rules, map),
-                    negated,
-                    group: g,
-                    reg,
-                });
-            }
-        }
-    }
-    let support_of =
-        |b: &mut Builder, name: &str, arg: &str| global(b, &unary(name, arg), false, None);
+    let mut support_of = |name: &str, arg: &str| global(b, d, map, &unary(name, arg), false, None);
     let rooms = map
         .rooms()
         .iter()
-        .map(|r| support_of(b, "in_room", &r.name))
+        .map(|r| support_of("in_room", &r.name))
         .collect();
     let regions = rules
         .regions
         .iter()
-        .map(|(g, _)| support_of(b, "in_region", g))
+        .map(|(g, _)| support_of("in_region", g))
         .collect();
-    let asked: std::collections::BTreeSet<GroundAtom> = d
-        .acc
-        .keys()
-        .filter(|(a, neg, _)| !neg && opts.derived.iter().any(|x| x == &a.name))
-        .map(|(a, _, _)| a.clone())
-        .collect();
-    let derived = asked
-        .into_iter()
-        .map(|a| {
-            let r = global(b, &a, false, None);
-            (a, r)
-        })
-        .collect();
-    let derived_in_context = d
-        .acc
-        .iter()
-        .filter(|((a, neg, _), _)| !neg && opts.derived.iter().any(|x| x == &a.name))
-        .map(|((a, _, ctx), &r)| (a.clone(), *ctx, r))
-        .collect();
+    let (derived, derived_in_context) = derived_outputs(b, d, map, opts);
     Outputs {
         support,
         exclusion,
@@ -794,10 +744,76 @@ fn outputs(
         regions,
         derived,
         derived_in_context,
-        set_heads,
+        set_heads: set_heads(b, d, rules, map),
         group_support,
         group_exclusion,
     }
+}
+
+/// The degree of a ground atom in one group (`None`: pooled over groups): the max over every
+/// context that derives it.
+fn global(
+    b: &mut Builder,
+    d: &Derivations,
+    map: &Map,
+    atom: &GroundAtom,
+    negated: bool,
+    group: Option<usize>,
+) -> Reg {
+    let parts: Vec<Reg> = (0..map.places().len())
+        .filter_map(|ctx| match group {
+            None => d.acc.get(&(atom.clone(), negated, ctx)).copied(),
+            Some(g) => d.grouped.get(&(g, atom.clone(), negated, ctx)).copied(),
+        })
+        .collect();
+    b.fold(&parts, Op::Max, 0.0)
+}
+
+/// Every room and region head (plain and negated, per group) that some rule concludes; a head
+/// concluded nowhere is the constant 0 and constrains nothing.
+fn set_heads(b: &mut Builder, d: &Derivations, rules: &RuleSet, map: &Map) -> Vec<SetHead> {
+    let n_groups = rules.groups.len() + 1;
+    let mut heads = Vec::new();
+    for atom in &named_sets(rules, map) {
+        for negated in [false, true] {
+            for group in 0..n_groups {
+                let reg = global(b, d, map, atom, negated, (n_groups > 1).then_some(group));
+                if b.konst(reg) != Some(0.0) {
+                    heads.push(SetHead {
+                        atom: atom.clone(),
+                        members: members_of(atom, rules, map),
+                        negated,
+                        group,
+                        reg,
+                    });
+                }
+            }
+        }
+    }
+    heads
+}
+
+/// Asked-for derived atoms: pooled over contexts, and per context.
+#[allow(clippy::type_complexity)]
+fn derived_outputs(
+    b: &mut Builder,
+    d: &Derivations,
+    map: &Map,
+    opts: &CompileOptions,
+) -> (Vec<(GroundAtom, Reg)>, Vec<(GroundAtom, usize, Reg)>) {
+    let in_context: Vec<(GroundAtom, usize, Reg)> = d
+        .acc
+        .iter()
+        .filter(|((a, neg, _), _)| !neg && opts.derived.iter().any(|x| x == &a.name))
+        .map(|((a, _, ctx), &r)| (a.clone(), *ctx, r))
+        .collect();
+    let atoms: std::collections::BTreeSet<&GroundAtom> =
+        in_context.iter().map(|(a, _, _)| a).collect();
+    let pooled = atoms
+        .into_iter()
+        .map(|a| (a.clone(), global(b, d, map, a, false, None)))
+        .collect();
+    (pooled, in_context)
 }
 
 /// Keeps only what the outputs (and the trace) need, renumbering registers.

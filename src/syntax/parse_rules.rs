@@ -198,26 +198,7 @@ impl Builder<'_> {
                 }
             }
             R::rule => self.rule(span, it, None).map(RuleItem::Rule),
-            R::region_decl => {
-                it.next(); // keyword
-                let name = self.next(&mut it, span, "region without name")?;
-                let name = self.ident(&name);
-                let body = self.next(&mut it, span, "region without places")?;
-                let members = if body.as_rule() == R::region_kind {
-                    let Some(kind) = body.into_inner().find(|x| x.as_rule() == R::ident) else {
-                        self.diags.push(internal("region without kind", span));
-                        return None;
-                    };
-                    RegionMembers::Kind(self.ident(&kind))
-                } else {
-                    RegionMembers::Places(body.into_inner().map(|v| self.ident(&v)).collect())
-                };
-                Some(RuleItem::Region(RegionDecl {
-                    name,
-                    members,
-                    span,
-                }))
-            }
+            R::region_decl => self.region(span, it),
             R::group_block => {
                 it.next(); // keyword
                 let name = self.next(&mut it, span, "group without name")?;
@@ -263,6 +244,28 @@ impl Builder<'_> {
             group,
             span,
         })
+    }
+
+    /// `region Name = {…};` or `region Name = kind k;`, after the keyword.
+    fn region(&mut self, span: Span, mut it: pest::iterators::Pairs<'_, R>) -> Option<RuleItem> {
+        it.next(); // keyword
+        let name = self.next(&mut it, span, "region without name")?;
+        let name = self.ident(&name);
+        let body = self.next(&mut it, span, "region without places")?;
+        let members = if body.as_rule() == R::region_kind {
+            let Some(kind) = body.into_inner().find(|x| x.as_rule() == R::ident) else {
+                self.diags.push(internal("region without kind", span));
+                return None;
+            };
+            RegionMembers::Kind(self.ident(&kind))
+        } else {
+            RegionMembers::Places(body.into_inner().map(|v| self.ident(&v)).collect())
+        };
+        Some(RuleItem::Region(RegionDecl {
+            name,
+            members,
+            span,
+        }))
     }
 
     fn role(&self, p: &Pair<'_, R>) -> Spanned<ArgRole> {
