@@ -235,7 +235,11 @@ impl Session<'_> {
         let known = meta.region.and_then(|r| self.regions.get(r as usize));
         self.engine.step_within(frame, known);
         match &mut self.tracker {
-            Some(t) => t.step(self.engine.distribution(), meta.odometry, meta.heading),
+            Some(t) => t.step(
+                self.engine.distribution(),
+                meta.odometry.to_si(),
+                meta.heading,
+            ),
             None => self.engine.decision(),
         }
     }

@@ -39,7 +39,7 @@ pub use query::QueryError;
 
 use crate::logic::{clamp_degree, decide, Decision, DecisionParams, PlaceDistribution, PlaceSet};
 use crate::map::Map;
-use crate::syntax::check::{check_map_against_rules, check_rules, RuleSet};
+use crate::rules::{check_map_against_rules, check_rules, RuleSet};
 use crate::syntax::diagnostic::{Diagnostic, SourceFile};
 use crate::syntax::{parse_map, parse_rules};
 use serde::{Deserialize, Serialize};

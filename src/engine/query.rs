@@ -10,8 +10,8 @@
 
 use crate::logic::PlaceSet;
 use crate::map::Map;
+use crate::rules::RuleSet;
 use crate::syntax::ast::{Formula, Term};
-use crate::syntax::check::RuleSet;
 use crate::syntax::parse_rules::parse_query;
 use crate::syntax::span::{Span, Spanned};
 use crate::syntax::Diagnostic;
