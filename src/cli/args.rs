@@ -274,9 +274,6 @@ pub enum ArgError {
         /// The allowed range.
         range: &'static str,
     },
-    /// The tracker configuration is not valid.
-    #[error("--tracker: {0}")]
-    Tracker(#[from] crate::engine::tracker::TrackerConfigError),
     /// A `--query` that names no set of places.
     #[error("--query `{query}`: {error}")]
     Query {

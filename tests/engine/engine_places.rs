@@ -8,7 +8,7 @@
 //! Lang, Prade: `(φ, α)` means `N(φ) ≥ α`; π(w) = min over the formulas w falsifies of 1 − α),
 //! not read off the program.
 
-use assert_cmd::Command;
+use crate::support::lplace;
 use lplace::engine::Engine;
 use lplace::logic::{
     decide, Decision, DecisionParams, Disoriented, Fusion, Normalisation, PlaceDistribution,
@@ -20,10 +20,6 @@ use lplace::syntax::parse_rules;
 
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() < 1e-12
-}
-
-fn lplace() -> Command {
-    Command::cargo_bin("lplace").expect("the lplace binary is built")
 }
 
 // ---------------------------------------------------------------------------------------------
