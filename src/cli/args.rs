@@ -106,6 +106,14 @@ pub struct ExplainArgs {
     /// Also print each formula in the paper's dissimilarity form (δ = 1 − degree).
     #[arg(long)]
     pub dissimilarity: bool,
+    /// Show a derived predicate (e.g. beacon_signature) on its own, per place context, instead
+    /// of the places.
+    #[arg(long, value_name = "PREDICATE")]
+    pub atom: Option<String>,
+    /// Show how Π and N of a set of places are computed (names of places, rooms, regions or
+    /// kinds, combined with `!`, `&`, `(+)`), instead of the places.
+    #[arg(long, value_name = "QUERY")]
+    pub query: Option<String>,
 }
 
 /// Output formats.
@@ -170,6 +178,10 @@ pub struct EvalArgs {
     /// Add every place's Π and N to each decision.
     #[arg(long)]
     pub degrees: bool,
+    /// Also report Π and N of a set of places: place, room, region or kind names combined with
+    /// `!`, `&` and `(+)`, e.g. 'EastWing (+) doorway'. May be repeated.
+    #[arg(long, value_name = "QUERY")]
+    pub query: Vec<String>,
     /// Decide each frame on its own evidence, without tracking along the map graph.
     #[arg(long)]
     pub no_track: bool,
@@ -261,6 +273,22 @@ pub enum ArgError {
         value: f64,
         /// The allowed range.
         range: &'static str,
+    },
+    /// A `--query` that names no set of places.
+    #[error("--query `{query}`: {error}")]
+    Query {
+        /// The query as written.
+        query: String,
+        /// Why it names nothing.
+        error: crate::engine::QueryError,
+    },
+    /// `--atom` names no derived predicate of the rule file.
+    #[error("--atom: no derived predicate `{name}` (predicates: {known})")]
+    UnknownPredicate {
+        /// What was asked.
+        name: String,
+        /// The predicates there are.
+        known: String,
     },
 }
 

@@ -9,13 +9,14 @@
 
 use super::args::{ArgError, EvalArgs, Format, StreamForm, SummaryFormat};
 use super::{load_engine, CliError, EXIT_OK, EXIT_REJECTED};
+use crate::engine::outcome::QueryOutcome;
 use crate::engine::tracker::{PlaceTracker, TrackerConfig};
 use crate::engine::{CompileOptions, Engine};
 use crate::io::record::FrameRecord;
 use crate::io::stream::{
     read_records, FrameMeta, Record, Schema, StreamFormat, StreamReader, Threads,
 };
-use crate::logic::{Decision, DecisionParams, PlaceDistribution};
+use crate::logic::{Decision, DecisionParams, PlaceDistribution, PlaceSet};
 use crate::report::summary::reason_name;
 use crate::report::trajectory::{self, TrajectoryPoint, Verdict};
 use crate::report::{RunPlot, Tally};
@@ -47,8 +48,30 @@ fn run_frame(args: &EvalArgs, json: &str, out: &mut impl Write) -> Result<u8, Cl
     if let Some(first) = rejected.into_iter().next() {
         return Err(ArgError::Frame(first).into());
     }
-    engine.step(&frame);
-    let outcome = engine.outcome();
+    let queries = resolve_queries(&engine, &args.query)?;
+    let known = match &record.region {
+        Some(name) => Some(engine.query_set(name).map_err(|error| ArgError::Query {
+            query: name.clone(),
+            error,
+        })?),
+        None => None,
+    };
+    engine.step_within(&frame, known.as_ref());
+    let mut outcome = engine.outcome();
+    let place_names = engine.map().places();
+    for (q, set) in &queries {
+        let (possibility, necessity) = engine.set_degrees(set);
+        outcome.queries.push(QueryOutcome {
+            query: q.clone(),
+            places: set
+                .indices()
+                .filter_map(|k| place_names.get(k))
+                .map(|p| p.name.clone())
+                .collect(),
+            possibility,
+            necessity,
+        });
+    }
     match args.format {
         Format::Json => {
             serde_json::to_writer_pretty(&mut *out, &outcome).map_err(std::io::Error::from)?;
@@ -66,52 +89,88 @@ fn run_frame(args: &EvalArgs, json: &str, out: &mut impl Write) -> Result<u8, Cl
                 outcome.inconsistency
             )?;
         }
-        Format::Table => {
-            match (&outcome.place, outcome.reason) {
-                (Some(p), _) => writeln!(
-                    out,
-                    "place {p} (N = {:.3})",
-                    outcome.necessity.unwrap_or(0.0)
-                )?,
-                (None, Some(r)) => {
-                    writeln!(out, "disoriented: {r} {}", outcome.candidates.join(" vs "))?
-                }
-                (None, None) => writeln!(out, "disoriented")?,
-            }
-            writeln!(out, "Inc = {:.3}", outcome.inconsistency)?;
-            writeln!(
-                out,
-                "{:<8} {:>7} {:>7} {:>7} {:>7}",
-                "place", "support", "exclude", "Π", "N"
-            )?;
-            for p in &outcome.places {
-                writeln!(
-                    out,
-                    "{:<8} {:>7.3} {:>7.3} {:>7.3} {:>7.3}",
-                    p.place, p.support, p.exclusion, p.possibility, p.necessity
-                )?;
-            }
-            for r in &outcome.rooms {
-                writeln!(
-                    out,
-                    "room {:<3} support {:.3}  Π {:.3}  N {:.3}",
-                    r.room, r.support, r.possibility, r.necessity
-                )?;
-            }
-            for f in &outcome.fired {
-                writeln!(
-                    out,
-                    "  rule {} @{} [{}] ⊢ {} = {:.3}",
-                    f.rule,
-                    f.context,
-                    f.binding.join(" "),
-                    f.head,
-                    f.degree
-                )?;
-            }
-        }
+        Format::Table => write_table(&outcome, out)?,
     }
     Ok(EXIT_OK)
+}
+
+/// The `--frame` outcome as a table: the decision, Inc, per place α, β, π, Π, N, then rooms,
+/// regions, queries and fired rules.
+fn write_table(outcome: &crate::engine::Outcome, out: &mut impl Write) -> std::io::Result<()> {
+    match (&outcome.place, outcome.reason) {
+        (Some(p), _) => writeln!(
+            out,
+            "place {p} (N = {:.3})",
+            outcome.necessity.unwrap_or(0.0)
+        )?,
+        (None, Some(r)) => writeln!(out, "disoriented: {r} {}", outcome.candidates.join(" vs "))?,
+        (None, None) => writeln!(out, "disoriented")?,
+    }
+    writeln!(out, "Inc = {:.3}", outcome.inconsistency)?;
+    writeln!(
+        out,
+        "{:<8} {:>7} {:>7} {:>7} {:>7} {:>7}",
+        "place", "support", "exclude", "π", "Π", "N"
+    )?;
+    for p in &outcome.places {
+        writeln!(
+            out,
+            "{:<8} {:>7.3} {:>7.3} {:>7.3} {:>7.3} {:>7.3}",
+            p.place, p.support, p.exclusion, p.possibility_raw, p.possibility, p.necessity
+        )?;
+    }
+    for r in &outcome.rooms {
+        writeln!(
+            out,
+            "room {:<3} support {:.3}  Π {:.3}  N {:.3}",
+            r.room, r.support, r.possibility, r.necessity
+        )?;
+    }
+    for r in &outcome.regions {
+        writeln!(
+            out,
+            "region {} support {:.3}  Π {:.3}  N {:.3}",
+            r.room, r.support, r.possibility, r.necessity
+        )?;
+    }
+    for q in &outcome.queries {
+        writeln!(
+            out,
+            "query {} = {{{}}}  Π {:.3}  N {:.3}",
+            q.query,
+            q.places.join(", "),
+            q.possibility,
+            q.necessity
+        )?;
+    }
+    for f in &outcome.fired {
+        writeln!(
+            out,
+            "  rule {} @{} [{}] ⊢ {} = {:.3}",
+            f.rule,
+            f.context,
+            f.binding.join(" "),
+            f.head,
+            f.degree
+        )?;
+    }
+    Ok(())
+}
+
+/// Resolves every `--query` against the engine's map and rules.
+fn resolve_queries(
+    engine: &Engine,
+    queries: &[String],
+) -> Result<Vec<(String, PlaceSet)>, CliError> {
+    let mut out = Vec::new();
+    for q in queries {
+        let set = engine.query_set(q).map_err(|error| ArgError::Query {
+            query: q.clone(),
+            error,
+        })?;
+        out.push((q.clone(), set));
+    }
+    Ok(out)
 }
 
 /// Reads the tracker configuration named by `--tracker` (defaults without it).
@@ -167,12 +226,17 @@ struct Session<'a> {
     tracker: Option<PlaceTracker>,
     places: Vec<String>,
     args: &'a EvalArgs,
+    /// `--query` sets, resolved once.
+    queries: Vec<(String, PlaceSet)>,
+    /// The sets a record's `region` field may name (indexed like the stream schema's).
+    regions: Vec<PlaceSet>,
 }
 
 impl Session<'_> {
     /// Steps one frame; returns the decision and the distribution it was drawn from.
     fn step(&mut self, frame: &crate::engine::Frame, meta: &FrameMeta) -> Decision {
-        self.engine.step(frame);
+        let known = meta.region.and_then(|r| self.regions.get(r as usize));
+        self.engine.step_within(frame, known);
         match &mut self.tracker {
             Some(t) => t.step(
                 self.engine.distribution(),
@@ -197,6 +261,9 @@ impl Session<'_> {
                     out,
                     "line,t,outcome,place,necessity,reason,inconsistency,truth"
                 )?;
+                for (q, _) in &self.queries {
+                    write!(out, ",pi:{q},n:{q}")?;
+                }
                 if self.args.degrees {
                     for p in &self.places {
                         write!(out, ",pi:{p},n:{p}")?;
@@ -257,6 +324,17 @@ impl Session<'_> {
                     Some(_) => out.write_all(b",\"truth\":null")?,
                     None => {}
                 }
+                for (i, (_, set)) in self.queries.iter().enumerate() {
+                    out.write_all(if i == 0 { b",\"queries\":[[" } else { b",[" })?;
+                    write_degree(out, set.possibility(&dist.possibility))?;
+                    out.write_all(b",")?;
+                    write_degree(out, set.necessity(&dist.possibility))?;
+                    out.write_all(if i + 1 == self.queries.len() {
+                        b"]]"
+                    } else {
+                        b"]"
+                    })?;
+                }
                 if self.args.degrees {
                     for (key, v) in [
                         (&b",\"possibility\":["[..], &dist.possibility),
@@ -297,6 +375,12 @@ impl Session<'_> {
                 write_degree(out, dist.inconsistency)?;
                 out.write_all(b",")?;
                 out.write_all(truth.unwrap_or("").as_bytes())?;
+                for (_, set) in &self.queries {
+                    out.write_all(b",")?;
+                    write_degree(out, set.possibility(&dist.possibility))?;
+                    out.write_all(b",")?;
+                    write_degree(out, set.necessity(&dist.possibility))?;
+                }
                 if self.args.degrees {
                     for k in 0..self.places.len() {
                         out.write_all(b",")?;
@@ -351,7 +435,13 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
         (None, Some(p)) => StreamFormat::from_path(p),
         (None, None) => StreamFormat::JsonLines,
     };
-    let schema = Schema::new(engine.percepts(), engine.map());
+    let queries = resolve_queries(&engine, &args.query)?;
+    let region_names = crate::engine::query::set_names(engine.map(), engine.rules());
+    let regions = region_names
+        .iter()
+        .filter_map(|n| engine.query_set(n).ok())
+        .collect();
+    let schema = Schema::new(engine.percepts(), engine.map()).with_regions(region_names);
     let places = schema.places().to_vec();
     let reader = StreamReader::new(input, schema, format);
     let logic = engine.rules().logic;
@@ -377,6 +467,8 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
         tracker,
         places,
         args,
+        queries,
+        regions,
     };
     // A progress bar only for a file with a person watching stderr.
     let progress = match size {

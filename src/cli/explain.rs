@@ -1,13 +1,41 @@
-//! `lplace explain`: print each place's closed-form degree function.
+//! `lplace explain`: print each place's closed-form degree function, or one derived predicate's
+//! (`--atom`), or how Π and N of a set of places are computed (`--query`).
 
 use super::args::{ArgError, ExplainArgs};
 use super::{load_engine, CliError, EXIT_OK};
-use crate::engine::CompileOptions;
+use crate::engine::tape::Op;
+use crate::engine::{CompileOptions, Engine};
 use std::io::Write;
 
 /// Runs `explain`.
 pub fn run(args: &ExplainArgs, out: &mut impl Write) -> Result<u8, CliError> {
-    let engine = load_engine(&args.model, &CompileOptions::default())?;
+    let opts = CompileOptions {
+        derived: args.atom.iter().cloned().collect(),
+        ..CompileOptions::default()
+    };
+    let engine = load_engine(&args.model, &opts)?;
+    let logic = engine.rules().logic;
+    writeln!(
+        out,
+        "// t-norm {}, implication {}, normalisation {}; `x ~sim θ` compares percept x's value with θ",
+        logic.tnorm.name(),
+        logic.implication.name(),
+        logic.normalisation.name()
+    )?;
+    if let Some(name) = &args.atom {
+        return explain_atom(&engine, name, args.dissimilarity, out);
+    }
+    if let Some(q) = &args.query {
+        return explain_query(&engine, q, out);
+    }
+    explain_places(&engine, args, out)
+}
+
+fn explain_places(
+    engine: &Engine,
+    args: &ExplainArgs,
+    out: &mut impl Write,
+) -> Result<u8, CliError> {
     let places = engine.map().places();
     let chosen: Vec<usize> = match &args.place {
         None => (0..places.len()).collect(),
@@ -28,14 +56,6 @@ pub fn run(args: &ExplainArgs, out: &mut impl Write) -> Result<u8, CliError> {
         },
     };
     let c = engine.compiled();
-    let logic = engine.rules().logic;
-    writeln!(
-        out,
-        "// t-norm {}, implication {}, normalisation {}; `x ~sim θ` compares percept x's value with θ",
-        logic.tnorm.name(),
-        logic.implication.name(),
-        logic.normalisation.name()
-    )?;
     for k in chosen {
         let name = &places[k].name;
         writeln!(
@@ -44,7 +64,7 @@ pub fn run(args: &ExplainArgs, out: &mut impl Write) -> Result<u8, CliError> {
             c.tape.render(c.support[k], &c.percepts)
         )?;
         let ex = c.exclusion[k];
-        if c.tape.ops.get(ex as usize) != Some(&crate::engine::tape::Op::Const(0.0)) {
+        if c.tape.ops.get(ex as usize) != Some(&Op::Const(0.0)) {
             writeln!(
                 out,
                 "!at_place({name}) = {}",
@@ -68,6 +88,90 @@ pub fn run(args: &ExplainArgs, out: &mut impl Write) -> Result<u8, CliError> {
                 c.tape.render(c.rooms[r], &c.percepts)
             )?;
         }
+        for (g, (region, _)) in engine.rules().regions.iter().enumerate() {
+            if let Some(&reg) = c.regions.get(g) {
+                writeln!(
+                    out,
+                    "in_region({region}) = {}",
+                    c.tape.render(reg, &c.percepts)
+                )?;
+            }
+        }
+        for h in &c.set_heads {
+            let neg = if h.negated { "!" } else { "" };
+            let cap = if h.negated { "inside" } else { "outside" };
+            writeln!(
+                out,
+                "// {neg}{} caps π of every place {cap} it at 1 − its degree",
+                h.atom
+            )?;
+        }
     }
+    Ok(EXIT_OK)
+}
+
+/// A derived predicate on its own: its degree function in each place context where it is not
+/// the constant 0 (the `_i` parameters differ by context), as `max` over contexts otherwise.
+fn explain_atom(
+    engine: &Engine,
+    name: &str,
+    dissimilarity: bool,
+    out: &mut impl Write,
+) -> Result<u8, CliError> {
+    let rules = engine.rules();
+    if !rules.predicates.contains_key(name) {
+        let known = rules
+            .predicates
+            .keys()
+            .cloned()
+            .collect::<Vec<_>>()
+            .join(", ");
+        return Err(ArgError::UnknownPredicate {
+            name: name.to_string(),
+            known,
+        }
+        .into());
+    }
+    let c = engine.compiled();
+    let places = engine.map().places();
+    for (atom, ctx, reg) in &c.derived_in_context {
+        if c.tape.ops.get(*reg as usize) == Some(&Op::Const(0.0)) {
+            continue;
+        }
+        let at = places.get(*ctx).map_or("?", |p| p.name.as_str());
+        writeln!(out, "{atom} @{at} = {}", c.tape.render(*reg, &c.percepts))?;
+        if dissimilarity {
+            writeln!(
+                out,
+                "  δ {atom} @{at} = {}",
+                c.tape.render_dissimilarity(*reg, &c.percepts)
+            )?;
+        }
+    }
+    Ok(EXIT_OK)
+}
+
+/// Π and N of a set of places, written out over the places' normalised possibilities π'.
+fn explain_query(engine: &Engine, q: &str, out: &mut impl Write) -> Result<u8, CliError> {
+    let set = engine.query_set(q).map_err(|error| ArgError::Query {
+        query: q.to_string(),
+        error,
+    })?;
+    let places = engine.map().places();
+    let list = |inside: bool| {
+        let terms: Vec<String> = (0..places.len())
+            .filter(|&k| set.contains(k) == inside)
+            .map(|k| format!("π'({})", places[k].name))
+            .collect();
+        if terms.is_empty() {
+            "0".to_string()
+        } else {
+            format!("max({})", terms.join(", "))
+        }
+    };
+    let members: Vec<&str> = set.indices().map(|k| places[k].name.as_str()).collect();
+    writeln!(out, "{q} = {{{}}}", members.join(", "))?;
+    writeln!(out, "Π({q}) = {}", list(true))?;
+    writeln!(out, "N({q}) = 1 - {}", list(false))?;
     Ok(EXIT_OK)
 }

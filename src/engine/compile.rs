@@ -10,7 +10,11 @@
 //!    context `i`;
 //! 3. derived predicates are compiled in dependency order (a recursive definition is an error),
 //!    and several derivations of one ground atom are combined by `max`;
-//! 4. each place's support is the `max` over contexts of its `at_place` derivations.
+//! 4. each place's support is the `max` over contexts of its `at_place` derivations, and likewise
+//!    each set head's degree (`in_room(R)`, `in_region(G)`, negated or not), which
+//!    `Engine::step` applies as a weighted disjunction of the set's places;
+//! 5. with `group` blocks, place and set heads are also accumulated per evidence group, so that
+//!    each group has its own distribution to fuse.
 //!
 //! Map facts are constants, so most of a ground rule folds away at compile time; identical
 //! sub-expressions are shared (hash-consing). A rule whose every instance folds to the constant 0
@@ -18,8 +22,9 @@
 
 use super::frame::{PerceptSlot, PerceptTable};
 use super::tape::{Op, Reg, Tape};
-use crate::logic::LogicConfig;
+use crate::logic::{LogicConfig, PlaceSet};
 use crate::map::{Expected, Map};
+use crate::rules::is_place_head;
 use crate::rules::{RuleSet, Signature};
 use crate::syntax::ast::{ArgRole, Atom, Formula, Rule, SchemaSource, Term};
 use crate::syntax::diagnostic::{Diagnostic, DiagnosticKind, NeverFiresReason};
@@ -82,8 +87,21 @@ pub struct Compiled {
     pub exclusion: Vec<Reg>,
     /// Register of the support for `in_room(R)`, per room.
     pub rooms: Vec<Reg>,
-    /// Asked-for derived atoms and their registers.
+    /// Register of the support for `in_region(G)`, per declared region.
+    pub regions: Vec<Reg>,
+    /// Asked-for derived atoms and their registers (max over place contexts).
     pub derived: Vec<(GroundAtom, Reg)>,
+    /// Asked-for derived atoms per place context: `(atom, context, register)`.
+    pub derived_in_context: Vec<(GroundAtom, usize, Reg)>,
+    /// Weighted heads over sets of places that some rule concludes.
+    pub set_heads: Vec<SetHead>,
+    /// Number of evidence groups (1 + the declared `group`s).
+    pub groups: usize,
+    /// With declared groups: per group, the register of each place's support in that group
+    /// (empty without groups).
+    pub group_support: Vec<Vec<Reg>>,
+    /// With declared groups: per group, each place's exclusion in that group.
+    pub group_exclusion: Vec<Vec<Reg>>,
     /// Rule instances (only with `CompileOptions::trace`).
     pub contributions: Vec<Contribution>,
 }
@@ -371,7 +389,7 @@ impl<'a> Scope<'a> {
     pub fn ground(&self, atom: &Atom) -> Option<GroundAtom> {
         let name = &atom.name.node;
         let args = match name.as_str() {
-            "at_place" | "in_room" => vec![self.constant(&atom.args.first()?.node)?],
+            "at_place" | "in_room" | "in_region" => vec![self.constant(&atom.args.first()?.node)?],
             _ => {
                 let sig = self.rules.predicates.get(name)?;
                 let mut args = Vec::new();
@@ -415,7 +433,7 @@ pub(crate) fn predicate_order(rules: &RuleSet) -> Result<Vec<String>, Vec<Diagno
         .predicates
         .keys()
         .map(String::as_str)
-        .chain(["at_place", "in_room"])
+        .chain(["at_place", "in_room", "in_region"])
     {
         preds.entry(p.to_string()).or_default();
     }
@@ -477,7 +495,7 @@ pub(crate) fn derived_atoms<'f>(f: &'f Formula, rules: &RuleSet, out: &mut Vec<&
     match f {
         Formula::Atom(a) => {
             let n = a.name.node.as_str();
-            if n == "at_place" || n == "in_room" || rules.predicates.contains_key(n) {
+            if is_place_head(n) || rules.predicates.contains_key(n) {
                 out.push(a);
             }
         }
@@ -496,6 +514,47 @@ pub(crate) fn derived_atoms<'f>(f: &'f Formula, rules: &RuleSet, out: &mut Vec<&
 /// Accumulated derivations: (ground atom, negated, context) → register of their `max`.
 type Acc = BTreeMap<(GroundAtom, bool, usize), Reg>;
 
+/// The same per evidence group, for place heads only: (group, atom, negated, context).
+type GroupAcc = BTreeMap<(usize, GroundAtom, bool, usize), Reg>;
+
+/// A weighted head over a set of places (`in_room(R)`, `in_region(G)`, negated or not), with the
+/// register of its degree: `(S, α)` caps every place outside `S` at `1 − α`, `(¬S, β)` every
+/// place inside it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SetHead {
+    /// The head atom (`in_room(R0)`, `in_region(EastWing)`).
+    pub atom: GroundAtom,
+    /// Its places.
+    pub members: PlaceSet,
+    /// True for `!in_room(…)` / `!in_region(…)`.
+    pub negated: bool,
+    /// Its evidence group (0: outside every `group` block).
+    pub group: usize,
+    /// Register of its degree (max over derivations and contexts).
+    pub reg: Reg,
+}
+
+/// Everything the derivation pass produces.
+struct Derivations {
+    acc: Acc,
+    grouped: GroupAcc,
+    contributions: Vec<Contribution>,
+    fires: Vec<bool>,
+}
+
+/// The output registers, before pruning renumbers them.
+struct Outputs {
+    support: Vec<Reg>,
+    exclusion: Vec<Reg>,
+    rooms: Vec<Reg>,
+    regions: Vec<Reg>,
+    derived: Vec<(GroundAtom, Reg)>,
+    derived_in_context: Vec<(GroundAtom, usize, Reg)>,
+    set_heads: Vec<SetHead>,
+    group_support: Vec<Vec<Reg>>,
+    group_exclusion: Vec<Vec<Reg>>,
+}
+
 /// Compiles `rules` over `map`. Errors are the diagnostics of rules that can never fire and of
 /// recursive predicate definitions.
 pub fn compile(
@@ -504,49 +563,64 @@ pub fn compile(
     opts: &CompileOptions,
 ) -> Result<Compiled, Vec<Diagnostic>> {
     let percepts = PerceptTable::new(rules);
-    let similarity_names: Vec<String> = rules.similarities.keys().cloned().collect();
-    let similarities = rules.similarities.values().copied().collect();
     let mut b = Builder {
         ops: Vec::new(),
         dedup: HashMap::new(),
         logic: rules.logic,
     };
     let order = predicate_order(rules)?;
-    let n_places = map.places().len();
-    let mut acc: Acc = BTreeMap::new();
-    let mut contributions = Vec::new();
-    let mut fires = vec![false; rules.rules.len()];
+    let d = derive(&mut b, rules, map, &percepts, &order, opts);
+    never_fires(rules, &d.fires)?;
+    let out = outputs(&mut b, rules, map, &d, opts);
+    Ok(prune(b, out, d.contributions, rules, percepts))
+}
 
-    for pred in &order {
+/// Grounds every rule in every context, in dependency order.
+fn derive(
+    b: &mut Builder,
+    rules: &RuleSet,
+    map: &Map,
+    percepts: &PerceptTable,
+    order: &[String],
+    opts: &CompileOptions,
+) -> Derivations {
+    let mut d = Derivations {
+        acc: BTreeMap::new(),
+        grouped: BTreeMap::new(),
+        contributions: Vec::new(),
+        fires: vec![false; rules.rules.len()],
+    };
+    let grouped = !rules.groups.is_empty();
+    for pred in order {
         for (ri, rule) in rules.rules.iter().enumerate() {
             if &rule.head.atom.name.node != pred {
                 continue;
             }
             let w = rule.weight.as_ref().map_or(1.0, |w| w.node);
+            let group = rules.group_of(rule);
             for binding in schema_bindings(rule, rules) {
-                for ctx in 0..n_places {
-                    let scope = Scope::new(rules, map, &percepts, &binding, &rule.body.node, ctx);
+                for ctx in 0..map.places().len() {
+                    let scope = Scope::new(rules, map, percepts, &binding, &rule.body.node, ctx);
                     let Some(head) = scope.ground(&rule.head.atom) else {
                         continue;
                     };
-                    let body = formula(&mut b, &scope, &rule.body, &acc);
+                    let body = formula(b, &scope, &rule.body, &d.acc);
                     let reg = b.mk(Op::Detach(body, w));
                     if b.konst(reg) != Some(0.0) {
-                        fires[ri] = true;
+                        d.fires[ri] = true;
                     }
-                    let key = (head.clone(), rule.head.negated, ctx);
-                    let merged = match acc.get(&key) {
-                        Some(&prev) => b.mk(Op::Max(prev, reg)),
-                        None => reg,
-                    };
-                    acc.insert(key, merged);
+                    let neg = rule.head.negated;
+                    merge(b, &mut d.acc, (head.clone(), neg, ctx), reg);
+                    if grouped && is_place_head(pred) {
+                        merge(b, &mut d.grouped, (group, head.clone(), neg, ctx), reg);
+                    }
                     if opts.trace {
-                        contributions.push(Contribution {
+                        d.contributions.push(Contribution {
                             rule: ri,
                             binding: binding.clone(),
                             context: ctx,
                             head,
-                            negated: rule.head.negated,
+                            negated: neg,
                             reg,
                         });
                     }
@@ -554,11 +628,24 @@ pub fn compile(
             }
         }
     }
+    d
+}
 
+/// Several derivations of one key combine by `max`.
+fn merge<K: Ord>(b: &mut Builder, acc: &mut BTreeMap<K, Reg>, key: K, reg: Reg) {
+    let merged = match acc.get(&key) {
+        Some(&prev) => b.mk(Op::Max(prev, reg)),
+        None => reg,
+    };
+    acc.insert(key, merged);
+}
+
+/// The compiler's own never-fires check: every instance of the rule folded to 0.
+fn never_fires(rules: &RuleSet, fires: &[bool]) -> Result<(), Vec<Diagnostic>> {
     let never: Vec<Diagnostic> = rules
         .rules
         .iter()
-        .zip(&fires)
+        .zip(fires)
         .filter(|(_, f)| !**f)
         .map(|(r, _)| {
             Diagnostic::error(
@@ -569,65 +656,192 @@ pub fn compile(
             )
         })
         .collect();
-    if !never.is_empty() {
-        return Err(never);
+    if never.is_empty() {
+        Ok(())
+    } else {
+        Err(never)
     }
+}
 
-    // Global degree of a ground atom: the max over every context that derives it.
-    let global = |b: &mut Builder, atom: &GroundAtom, negated: bool| -> Reg {
-        let parts: Vec<Reg> = (0..n_places)
-            .filter_map(|ctx| acc.get(&(atom.clone(), negated, ctx)).copied())
-            .collect();
-        b.fold(&parts, Op::Max, 0.0)
-    };
-    let place_atom = |name: &str| GroundAtom {
-        name: "at_place".into(),
-        args: vec![name.to_string()],
-    };
-    let support: Vec<Reg> = map
+fn unary(name: &str, arg: &str) -> GroundAtom {
+    GroundAtom {
+        name: name.into(),
+        args: vec![arg.to_string()],
+    }
+}
+
+/// The sets of places that heads can name: rooms, then declared regions.
+fn named_sets(rules: &RuleSet, map: &Map) -> Vec<GroundAtom> {
+    map.rooms()
+        .iter()
+        .map(|r| unary("in_room", &r.name))
+        .chain(rules.regions.iter().map(|(g, _)| unary("in_region", g)))
+        .collect()
+}
+
+/// The places of a set head's atom.
+fn members_of(atom: &GroundAtom, rules: &RuleSet, map: &Map) -> PlaceSet {
+    let n = map.places().len();
+    let arg = atom.args.first().map_or("", String::as_str);
+    match atom.name.as_str() {
+        "in_room" => {
+            let r = map.rooms().iter().position(|r| r.name == arg);
+            let places = map.places().iter().enumerate();
+            PlaceSet::from_indices(n, places.filter(|(_, p)| p.room == r).map(|(k, _)| k))
+        }
+        _ => rules.regions.iter().find(|(g, _)| g == arg).map_or_else(
+            || PlaceSet::empty(n),
+            |(_, ks)| PlaceSet::from_indices(n, ks.iter().copied()),
+        ),
+    }
+}
+
+/// The output registers: place supports and exclusions (pooled and per group), room and region
+/// supports, set heads, asked-for derived atoms.
+fn outputs(
+    b: &mut Builder,
+    rules: &RuleSet,
+    map: &Map,
+    d: &Derivations,
+    opts: &CompileOptions,
+) -> Outputs {
+    let places: Vec<GroundAtom> = map
         .places()
         .iter()
-        .map(|p| global(&mut b, &place_atom(&p.name), false))
+        .map(|p| unary("at_place", &p.name))
         .collect();
-    let exclusion: Vec<Reg> = map
-        .places()
-        .iter()
-        .map(|p| global(&mut b, &place_atom(&p.name), true))
-        .collect();
-    let room_regs: Vec<Reg> = map
+    let per_place = |b: &mut Builder, negated: bool, group: Option<usize>| -> Vec<Reg> {
+        places
+            .iter()
+            .map(|a| global(b, d, map, a, negated, group))
+            .collect()
+    };
+    let support = per_place(b, false, None);
+    let exclusion = per_place(b, true, None);
+    let n_groups = rules.groups.len() + 1;
+    let (mut group_support, mut group_exclusion) = (Vec::new(), Vec::new());
+    if n_groups > 1 {
+        for g in 0..n_groups {
+            group_support.push(per_place(b, false, Some(g)));
+            group_exclusion.push(per_place(b, true, Some(g)));
+        }
+    }
+    let mut support_of = |name: &str, arg: &str| global(b, d, map, &unary(name, arg), false, None);
+    let rooms = map
         .rooms()
         .iter()
-        .map(|r| {
-            let atom = GroundAtom {
-                name: "in_room".into(),
-                args: vec![r.name.clone()],
-            };
-            global(&mut b, &atom, false)
+        .map(|r| support_of("in_room", &r.name))
+        .collect();
+    let regions = rules
+        .regions
+        .iter()
+        .map(|(g, _)| support_of("in_region", g))
+        .collect();
+    let (derived, derived_in_context) = derived_outputs(b, d, map, opts);
+    Outputs {
+        support,
+        exclusion,
+        rooms,
+        regions,
+        derived,
+        derived_in_context,
+        set_heads: set_heads(b, d, rules, map),
+        group_support,
+        group_exclusion,
+    }
+}
+
+/// The degree of a ground atom in one group (`None`: pooled over groups): the max over every
+/// context that derives it.
+fn global(
+    b: &mut Builder,
+    d: &Derivations,
+    map: &Map,
+    atom: &GroundAtom,
+    negated: bool,
+    group: Option<usize>,
+) -> Reg {
+    let parts: Vec<Reg> = (0..map.places().len())
+        .filter_map(|ctx| match group {
+            None => d.acc.get(&(atom.clone(), negated, ctx)).copied(),
+            Some(g) => d.grouped.get(&(g, atom.clone(), negated, ctx)).copied(),
         })
         .collect();
-    let mut derived = Vec::new();
-    let asked: Vec<GroundAtom> = acc
-        .keys()
-        .filter(|(a, neg, _)| !neg && opts.derived.iter().any(|d| d == &a.name))
-        .map(|(a, _, _)| a.clone())
-        .collect::<std::collections::BTreeSet<_>>()
-        .into_iter()
-        .collect();
-    for atom in asked {
-        let r = global(&mut b, &atom, false);
-        derived.push((atom, r));
-    }
+    b.fold(&parts, Op::Max, 0.0)
+}
 
-    // Keep only what the outputs (and the trace) need, renumbering registers.
-    let mut live = vec![false; b.ops.len()];
-    let roots = support
+/// Every room and region head (plain and negated, per group) that some rule concludes; a head
+/// concluded nowhere is the constant 0 and constrains nothing.
+fn set_heads(b: &mut Builder, d: &Derivations, rules: &RuleSet, map: &Map) -> Vec<SetHead> {
+    let n_groups = rules.groups.len() + 1;
+    let mut heads = Vec::new();
+    for atom in &named_sets(rules, map) {
+        for negated in [false, true] {
+            for group in 0..n_groups {
+                let reg = global(b, d, map, atom, negated, (n_groups > 1).then_some(group));
+                if b.konst(reg) != Some(0.0) {
+                    heads.push(SetHead {
+                        atom: atom.clone(),
+                        members: members_of(atom, rules, map),
+                        negated,
+                        group,
+                        reg,
+                    });
+                }
+            }
+        }
+    }
+    heads
+}
+
+/// Asked-for derived atoms: pooled over contexts, and per context.
+#[allow(clippy::type_complexity)]
+fn derived_outputs(
+    b: &mut Builder,
+    d: &Derivations,
+    map: &Map,
+    opts: &CompileOptions,
+) -> (Vec<(GroundAtom, Reg)>, Vec<(GroundAtom, usize, Reg)>) {
+    let in_context: Vec<(GroundAtom, usize, Reg)> = d
+        .acc
         .iter()
-        .chain(&exclusion)
-        .chain(&room_regs)
-        .chain(derived.iter().map(|(_, r)| r))
-        .chain(contributions.iter().map(|c| &c.reg));
-    for &r in roots {
-        live[r as usize] = true;
+        .filter(|((a, neg, _), _)| !neg && opts.derived.iter().any(|x| x == &a.name))
+        .map(|((a, _, ctx), &r)| (a.clone(), *ctx, r))
+        .collect();
+    let atoms: std::collections::BTreeSet<&GroundAtom> =
+        in_context.iter().map(|(a, _, _)| a).collect();
+    let pooled = atoms
+        .into_iter()
+        .map(|a| (a.clone(), global(b, d, map, a, false, None)))
+        .collect();
+    (pooled, in_context)
+}
+
+/// Keeps only what the outputs (and the trace) need, renumbering registers.
+fn prune(
+    b: Builder,
+    mut out: Outputs,
+    mut contributions: Vec<Contribution>,
+    rules: &RuleSet,
+    percepts: PerceptTable,
+) -> Compiled {
+    let mut live = vec![false; b.ops.len()];
+    {
+        let roots = out
+            .support
+            .iter()
+            .chain(&out.exclusion)
+            .chain(&out.rooms)
+            .chain(&out.regions)
+            .chain(out.derived.iter().map(|(_, r)| r))
+            .chain(out.derived_in_context.iter().map(|(_, _, r)| r))
+            .chain(out.set_heads.iter().map(|h| &h.reg))
+            .chain(out.group_support.iter().flatten())
+            .chain(out.group_exclusion.iter().flatten())
+            .chain(contributions.iter().map(|c| &c.reg));
+        for &r in roots {
+            live[r as usize] = true;
+        }
     }
     for i in (0..b.ops.len()).rev() {
         if live[i] {
@@ -644,27 +858,39 @@ pub fn compile(
             ops.push(op.map_operands(|r| renumber[r as usize]));
         }
     }
-    let rn = |r: Reg| renumber[r as usize];
-    Ok(Compiled {
+    let rn = |r: &mut Reg| *r = renumber[*r as usize];
+    out.support.iter_mut().for_each(rn);
+    out.exclusion.iter_mut().for_each(rn);
+    out.rooms.iter_mut().for_each(rn);
+    out.regions.iter_mut().for_each(rn);
+    out.derived.iter_mut().for_each(|(_, r)| rn(r));
+    out.derived_in_context
+        .iter_mut()
+        .for_each(|(_, _, r)| rn(r));
+    out.set_heads.iter_mut().for_each(|h| rn(&mut h.reg));
+    out.group_support.iter_mut().flatten().for_each(rn);
+    out.group_exclusion.iter_mut().flatten().for_each(rn);
+    contributions.iter_mut().for_each(|c| rn(&mut c.reg));
+    Compiled {
         tape: Tape {
             ops,
-            similarities,
-            similarity_names,
+            similarities: rules.similarities.values().copied().collect(),
+            similarity_names: rules.similarities.keys().cloned().collect(),
             logic: rules.logic,
         },
         percepts,
-        support: support.into_iter().map(rn).collect(),
-        exclusion: exclusion.into_iter().map(rn).collect(),
-        rooms: room_regs.into_iter().map(rn).collect(),
-        derived: derived.into_iter().map(|(a, r)| (a, rn(r))).collect(),
-        contributions: contributions
-            .into_iter()
-            .map(|mut c| {
-                c.reg = rn(c.reg);
-                c
-            })
-            .collect(),
-    })
+        support: out.support,
+        exclusion: out.exclusion,
+        rooms: out.rooms,
+        regions: out.regions,
+        derived: out.derived,
+        derived_in_context: out.derived_in_context,
+        set_heads: out.set_heads,
+        groups: rules.groups.len() + 1,
+        group_support: out.group_support,
+        group_exclusion: out.group_exclusion,
+        contributions,
+    }
 }
 
 /// Compiles one body formula in one scope.

@@ -28,14 +28,16 @@ pub mod frame;
 pub mod grid_tracker;
 pub mod interpret;
 pub mod outcome;
+pub mod query;
 pub mod tape;
 pub mod tracker;
 
-pub use compile::{compile, CompileOptions, Compiled, Contribution, GroundAtom};
+pub use compile::{compile, CompileOptions, Compiled, Contribution, GroundAtom, SetHead};
 pub use frame::{Frame, PerceptInstance, PerceptSlot, PerceptTable};
 pub use outcome::Outcome;
+pub use query::QueryError;
 
-use crate::logic::{clamp_degree, decide, Decision, DecisionParams, PlaceDistribution};
+use crate::logic::{clamp_degree, decide, Decision, DecisionParams, PlaceDistribution, PlaceSet};
 use crate::map::Map;
 use crate::rules::{check_map_against_rules, check_rules, RuleSet};
 use crate::syntax::diagnostic::{Diagnostic, SourceFile};
@@ -79,10 +81,10 @@ pub struct Sanitised {
     pub infinite_values: u32,
 }
 
-/// Place and room degrees of the last step.
+/// Degrees of named sets of places (rooms, or declared regions) in the last step.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RoomDegrees {
-    /// Support for `in_room(R)` derived by the rules.
+    /// Support for `in_room(R)` (or `in_region(G)`) derived by the rules.
     pub support: Vec<f64>,
     /// `Π(R) = max_{k ∈ R} π'_k`.
     pub possibility: Vec<f64>,
@@ -98,9 +100,22 @@ pub struct Engine {
     compiled: Compiled,
     regs: Vec<f64>,
     dist: PlaceDistribution,
+    /// One distribution per evidence group (empty without `group` blocks).
+    group_dists: Vec<PlaceDistribution>,
     rooms: RoomDegrees,
+    regions: RoomDegrees,
+    room_sets: Vec<PlaceSet>,
+    region_sets: Vec<PlaceSet>,
     decision: Decision,
     sanitised: Sanitised,
+}
+
+fn degrees(n: usize) -> RoomDegrees {
+    RoomDegrees {
+        support: vec![0.0; n],
+        possibility: vec![1.0; n],
+        necessity: vec![0.0; n],
+    }
 }
 
 impl Engine {
@@ -145,15 +160,27 @@ impl Engine {
     pub fn new(map: Map, rules: RuleSet, opts: &CompileOptions) -> Result<Engine, Vec<Diagnostic>> {
         let compiled = compile(&rules, &map, opts)?;
         let n = map.places().len();
-        let r = map.rooms().len();
+        let groups = if compiled.groups > 1 {
+            compiled.groups
+        } else {
+            0
+        };
+        let room_sets = (0..map.rooms().len())
+            .map(|r| query::room_set(&map, r))
+            .collect();
+        let region_sets = rules
+            .regions
+            .iter()
+            .map(|(_, ks)| PlaceSet::from_indices(n, ks.iter().copied()))
+            .collect();
         let mut engine = Engine {
             regs: vec![0.0; compiled.tape.len()],
             dist: PlaceDistribution::new(n),
-            rooms: RoomDegrees {
-                support: vec![0.0; r],
-                possibility: vec![1.0; r],
-                necessity: vec![0.0; r],
-            },
+            group_dists: vec![PlaceDistribution::new(n); groups],
+            rooms: degrees(map.rooms().len()),
+            regions: degrees(rules.regions.len()),
+            room_sets,
+            region_sets,
             decision: Decision::Disoriented(crate::logic::Disoriented::NoPlaces),
             sanitised: Sanitised::default(),
             map,
@@ -193,17 +220,15 @@ impl Engine {
     /// Evaluates one frame and decides. Allocates nothing; never panics. A frame of the wrong
     /// size reads its missing slots as missing percepts.
     pub fn step(&mut self, frame: &Frame) -> Decision {
-        self.sanitised = Sanitised::default();
-        for &d in &frame.degree {
-            if d.is_nan() {
-                self.sanitised.nan_degrees += 1;
-            } else if !(0.0..=1.0).contains(&d) {
-                self.sanitised.clamped_degrees += 1;
-            }
-        }
-        self.sanitised.infinite_values =
-            frame.value.iter().filter(|v| v.is_infinite()).count() as u32;
+        self.step_within(frame, None)
+    }
 
+    /// [`Engine::step`], knowing from outside that the robot is somewhere in `known` (a room,
+    /// region or any set of places, e.g. from [`Engine::query_set`]): the distribution is
+    /// conditioned on it — min-based or product-based, as the rule file's `normalisation` says
+    /// (see `logic::possibility`). Allocates nothing.
+    pub fn step_within(&mut self, frame: &Frame, known: Option<&PlaceSet>) -> Decision {
+        self.sanitise(frame);
         self.compiled.tape.eval(frame, &mut self.regs);
         let read =
             |regs: &[f64], r: u32| clamp_degree(regs.get(r as usize).copied().unwrap_or(0.0));
@@ -214,8 +239,22 @@ impl Engine {
             self.dist.exclusion[k] = read(&self.regs, r);
         }
         let logic = self.rules.logic;
-        self.dist.update(logic.normalisation);
-        self.update_rooms();
+        if self.group_dists.is_empty() {
+            self.dist.fill_raw();
+            for h in &self.compiled.set_heads {
+                let degree = read(&self.regs, h.reg);
+                self.dist.constrain(&h.members, degree, h.negated);
+            }
+        } else {
+            self.fuse_groups();
+        }
+        if let Some(a) = known {
+            self.dist.condition(a);
+        }
+        self.dist.finish(logic.normalisation);
+        let (d, regs, c) = (&self.dist, &self.regs, &self.compiled);
+        update_sets(d, regs, &c.rooms, &self.room_sets, &mut self.rooms);
+        update_sets(d, regs, &c.regions, &self.region_sets, &mut self.regions);
         self.decision = decide(
             &self.dist,
             DecisionParams {
@@ -226,22 +265,39 @@ impl Engine {
         self.decision
     }
 
-    fn update_rooms(&mut self) {
-        let places = self.map.places();
-        for (ri, &reg) in self.compiled.rooms.iter().enumerate() {
-            self.rooms.support[ri] =
-                clamp_degree(self.regs.get(reg as usize).copied().unwrap_or(0.0));
-            let (mut inside, mut outside) = (0.0f64, 0.0f64);
-            for (k, p) in places.iter().enumerate() {
-                let pk = self.dist.possibility[k];
-                if p.room == Some(ri) {
-                    inside = inside.max(pk);
-                } else {
-                    outside = outside.max(pk);
-                }
+    fn sanitise(&mut self, frame: &Frame) {
+        self.sanitised = Sanitised::default();
+        for &d in &frame.degree {
+            if d.is_nan() {
+                self.sanitised.nan_degrees += 1;
+            } else if !(0.0..=1.0).contains(&d) {
+                self.sanitised.clamped_degrees += 1;
             }
-            self.rooms.possibility[ri] = inside;
-            self.rooms.necessity[ri] = 1.0 - outside;
+        }
+        self.sanitised.infinite_values =
+            frame.value.iter().filter(|v| v.is_infinite()).count() as u32;
+    }
+
+    /// With `group` blocks: each group's own distribution (its place and set heads), fused world
+    /// by world into `dist.possibility_raw` by the file's `fusion`.
+    fn fuse_groups(&mut self) {
+        let regs = &self.regs;
+        let read = |r: u32| clamp_degree(regs.get(r as usize).copied().unwrap_or(0.0));
+        let c = &self.compiled;
+        for (g, gd) in self.group_dists.iter_mut().enumerate() {
+            let (sup, exc) = (c.group_support.get(g), c.group_exclusion.get(g));
+            for k in 0..gd.len() {
+                gd.support[k] = sup.and_then(|v| v.get(k)).map_or(0.0, |&r| read(r));
+                gd.exclusion[k] = exc.and_then(|v| v.get(k)).map_or(0.0, |&r| read(r));
+            }
+            gd.fill_raw();
+            for h in c.set_heads.iter().filter(|h| h.group == g) {
+                gd.constrain(&h.members, read(h.reg), h.negated);
+            }
+        }
+        self.dist.possibility_raw.fill(1.0);
+        for gd in &self.group_dists {
+            self.dist.fuse(&gd.possibility_raw, self.rules.logic.fusion);
         }
     }
 
@@ -258,6 +314,28 @@ impl Engine {
     /// Room degrees of the last step.
     pub fn rooms(&self) -> &RoomDegrees {
         &self.rooms
+    }
+
+    /// Degrees of the declared regions in the last step (in `rules().regions` order).
+    pub fn regions(&self) -> &RoomDegrees {
+        &self.regions
+    }
+
+    /// The unnormalised distribution of each evidence group in the last step (empty without
+    /// `group` blocks; group 0 holds the rules outside every block).
+    pub fn group_distributions(&self) -> &[PlaceDistribution] {
+        &self.group_dists
+    }
+
+    /// The set of places a query names (see [`query`]): place, room, region and kind names,
+    /// `at_place(P)`, `in_room(R)`, `in_region(G)`, combined with `!`, `&` and `(+)`.
+    pub fn query_set(&self, text: &str) -> Result<PlaceSet, QueryError> {
+        query::resolve(text, &self.map, &self.rules)
+    }
+
+    /// `(Π(S), N(S))` of a set of places under the last step's normalised distribution.
+    pub fn set_degrees(&self, set: &PlaceSet) -> (f64, f64) {
+        (self.dist.set_possibility(set), self.dist.set_necessity(set))
     }
 
     /// Repairs made to the last frame.
@@ -290,5 +368,21 @@ impl Engine {
     /// A named, serialisable summary of the last step.
     pub fn outcome(&self) -> Outcome {
         Outcome::of(self)
+    }
+}
+
+/// Support (from the rules), Π and N of each named set of places.
+fn update_sets(
+    dist: &PlaceDistribution,
+    regs: &[f64],
+    support: &[u32],
+    sets: &[PlaceSet],
+    out: &mut RoomDegrees,
+) {
+    for (i, set) in sets.iter().enumerate() {
+        let reg = support.get(i).copied().unwrap_or(u32::MAX);
+        out.support[i] = clamp_degree(regs.get(reg as usize).copied().unwrap_or(0.0));
+        out.possibility[i] = dist.set_possibility(set);
+        out.necessity[i] = dist.set_necessity(set);
     }
 }

@@ -18,9 +18,24 @@ pub struct PlaceDegrees {
     pub possibility: f64,
     /// `N`.
     pub necessity: f64,
+    /// `π_k` before normalisation (after set heads, fusion and conditioning).
+    pub possibility_raw: f64,
 }
 
-/// Degrees of one room in one step.
+/// Π and N of a query over sets of places.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct QueryOutcome {
+    /// The query as written.
+    pub query: String,
+    /// Its places.
+    pub places: Vec<String>,
+    /// `Π(S)`.
+    pub possibility: f64,
+    /// `N(S)`.
+    pub necessity: f64,
+}
+
+/// Degrees of one room (or region) in one step.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RoomOutcome {
     /// Room name.
@@ -67,6 +82,12 @@ pub struct Outcome {
     pub places: Vec<PlaceDegrees>,
     /// Per room, in map order.
     pub rooms: Vec<RoomOutcome>,
+    /// Declared regions (`room` holds the region's name), when the rule file has any.
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub regions: Vec<RoomOutcome>,
+    /// Asked-for queries over sets of places (`eval --query`).
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub queries: Vec<QueryOutcome>,
     /// Rule instances with a positive degree (only when loaded with trace).
     #[serde(skip_serializing_if = "Vec::is_empty", default)]
     pub fired: Vec<Fired>,
@@ -115,6 +136,7 @@ impl Outcome {
                     exclusion: d.exclusion[k],
                     possibility: d.possibility[k],
                     necessity: d.necessity[k],
+                    possibility_raw: d.possibility_raw[k],
                 })
                 .collect(),
             rooms: engine
@@ -129,6 +151,19 @@ impl Outcome {
                     necessity: rooms.necessity[r],
                 })
                 .collect(),
+            regions: engine
+                .rules()
+                .regions
+                .iter()
+                .enumerate()
+                .map(|(g, (region, _))| RoomOutcome {
+                    room: region.clone(),
+                    support: engine.regions().support[g],
+                    possibility: engine.regions().possibility[g],
+                    necessity: engine.regions().necessity[g],
+                })
+                .collect(),
+            queries: Vec::new(),
             fired: engine
                 .trace()
                 .filter(|(_, deg)| *deg > 0.0)

@@ -164,6 +164,7 @@ impl<'m> CarmenFramer<'m> {
             heading,
             percepts,
             truth,
+            region: None,
         }
     }
 }

@@ -54,6 +54,7 @@ const K_ODOMETRY: u64 = word(b"odometry");
 const K_HEADING: u64 = word(b"heading");
 const K_PERCEPTS: u64 = word(b"percepts");
 const K_TRUTH: u64 = word(b"truth");
+const K_REGION: u64 = word(b"region");
 const K_DX: u64 = word(b"dx");
 const K_DY: u64 = word(b"dy");
 const K_DTHETA: u64 = word(b"dtheta");
@@ -340,6 +341,11 @@ fn record(
             K_TRUTH => {
                 once(&mut seen, 16)?;
                 truth(cur, schema, meta)?;
+            }
+            K_REGION => {
+                // An unknown name is the serde path's to reject with its reason.
+                once(&mut seen, 64)?;
+                meta.region = Some(schema.region(cur.str()?)?);
             }
             _ => return None,
         }

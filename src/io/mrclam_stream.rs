@@ -117,6 +117,7 @@ pub fn to_record(
         heading: None,
         percepts,
         truth,
+        region: None,
     }
 }
 

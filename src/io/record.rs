@@ -94,6 +94,10 @@ pub struct FrameRecord {
     /// Ground truth, if known.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub truth: Option<Truth>,
+    /// A region known from outside (a place, room, region or kind name): the engine conditions
+    /// its distribution on it (`Engine::step_within`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub region: Option<String>,
 }
 
 /// Why a record (or one percept of it) was rejected.

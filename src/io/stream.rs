@@ -79,6 +79,8 @@ pub struct Schema {
     index: InstanceIndex,
     places: Vec<String>,
     slots: usize,
+    /// Names a record's `region` field may take (see [`Schema::with_regions`]).
+    regions: Vec<String>,
 }
 
 impl Schema {
@@ -95,6 +97,7 @@ impl Schema {
             index: table.lookup().clone(),
             places,
             slots: table.len(),
+            regions: Vec::new(),
         }
     }
 
@@ -107,12 +110,27 @@ impl Schema {
             instances,
             index,
             places,
+            regions: Vec::new(),
         }
     }
 
     /// The percept instance in `slot`.
     pub fn instance(&self, slot: PerceptSlot) -> Option<&PerceptInstance> {
         self.instances.get(slot.0 as usize)
+    }
+
+    /// The same schema, accepting these names in a record's `region` field (the region known
+    /// from outside that the engine conditions on; `engine::query::set_names` lists an
+    /// engine's). Without it every `region` field is rejected as unknown.
+    pub fn with_regions(mut self, names: Vec<String>) -> Schema {
+        self.regions = names;
+        self
+    }
+
+    /// Index of a `region` name (into the names given to [`Schema::with_regions`]).
+    pub fn region(&self, name: &[u8]) -> Option<u32> {
+        let i = self.regions.iter().position(|r| r.as_bytes() == name)?;
+        u32::try_from(i).ok()
     }
 
     /// The slot of `name(args…)`; `None` when not declared.
@@ -177,6 +195,9 @@ pub struct FrameMeta {
     pub truth_place: Option<usize>,
     /// The true pose `[x, y, θ°]`, if given.
     pub truth_pose: Option<[f64; 3]>,
+    /// The region known from outside (`"region": "R0"`), as an index into the schema's region
+    /// names.
+    pub region: Option<u32>,
 }
 
 /// Why a record was rejected.
@@ -247,6 +268,12 @@ pub enum Rejection {
         /// The name written.
         name: String,
     },
+    /// A `region` that is no place, room, region or kind of the map and rules.
+    #[error("unknown region `{name}`")]
+    UnknownRegion {
+        /// The name written.
+        name: String,
+    },
     /// A CSV header column that names nothing known (its cells are ignored).
     #[error("CSV column `{column}`: {reason}")]
     CsvColumn {
@@ -270,6 +297,7 @@ impl Rejection {
             Rejection::Duplicate { .. } => "duplicate_percept",
             Rejection::TimeBackwards { .. } => "time_backwards",
             Rejection::UnknownTruthPlace { .. } => "unknown_truth_place",
+            Rejection::UnknownRegion { .. } => "unknown_region",
             Rejection::CsvColumn { .. } => "csv_column",
         }
     }
@@ -1011,6 +1039,7 @@ enum RecordKey {
     Heading,
     Percepts,
     Truth,
+    Region,
     #[serde(other)]
     Other,
 }
@@ -1081,6 +1110,18 @@ impl<'de> Visitor<'de> for RecordSeed<'_, '_> {
                     ctx.has_percepts = true;
                 }
                 RecordKey::Truth => map.next_value_seed(TruthSeed(ctx))?,
+                RecordKey::Region => {
+                    map.next_value_seed(StrInto(&mut ctx.scratch.name))?;
+                    match ctx.schema.region(ctx.scratch.name.as_bytes()) {
+                        Some(r) => ctx.meta.region = Some(r),
+                        None if ctx.problem.is_none() => {
+                            *ctx.problem = Some(Rejection::UnknownRegion {
+                                name: ctx.scratch.name.clone(),
+                            });
+                        }
+                        None => {}
+                    }
+                }
                 RecordKey::Other => {
                     map.next_value::<IgnoredAny>()?;
                 }

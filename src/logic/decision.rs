@@ -10,12 +10,36 @@
 //! 4. no place has support `≥ θ` → [`Disoriented::NothingAboveThreshold`];
 //! 5. otherwise → [`Disoriented::TooClose`]: a runner-up remains too possible.
 //!
+//! **Ties are exact up to [`TIE_TOLERANCE`].** The degrees compared with `θ` and `m` are
+//! computed (`N = 1 − (1 − α)`, `N − Inc`), so a value that equals a stated threshold on paper
+//! can land one rounding step below it: `1 − (1 − 0.1) = 0.09999999999999998`. Every comparison
+//! above therefore reads "reaches `θ`" as `x ≥ θ − 10⁻⁹` and "exceeds `m`" as `x > m + 10⁻⁹`.
+//! Degrees are sums of at most a few roundings of numbers in `[0, 1]` (errors near 10⁻¹⁶), and
+//! thresholds are written with a few decimals, so no two degrees a rule file can tell apart are
+//! merged by it.
+//!
 //! The runner-up reported is the place other than `b` with the highest normalised possibility;
 //! with a single place, cases 3 and 5 report [`Disoriented::Inconsistent`] instead, since there is
 //! no other place to be close to.
 
 use super::possibility::PlaceDistribution;
 use serde::{Deserialize, Serialize};
+
+/// How far below a threshold (or above a margin) a computed degree may fall and still count as
+/// meeting it (see the module docs).
+pub const TIE_TOLERANCE: f64 = 1e-9;
+
+/// `x ≥ θ`, up to the rounding of `x` ([`TIE_TOLERANCE`]).
+#[inline]
+pub fn reaches(x: f64, threshold: f64) -> bool {
+    x >= threshold - TIE_TOLERANCE
+}
+
+/// `x > m`, where an `x` within [`TIE_TOLERANCE`] of `m` is a tie and does not exceed it.
+#[inline]
+pub fn exceeds(x: f64, margin: f64) -> bool {
+    x > margin + TIE_TOLERANCE
+}
 
 /// Threshold and margin of the decision (from the rule file's `logic` block).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -97,17 +121,17 @@ pub fn decide(d: &PlaceDistribution, p: DecisionParams) -> Decision {
     }
     let nb = d.necessity[best];
     let inc = d.inconsistency;
-    if nb >= p.threshold && nb - inc > p.margin {
+    if reaches(nb, p.threshold) && exceeds(nb - inc, p.margin) {
         return Decision::Place {
             place: best,
             necessity: nb,
         };
     }
-    if inc >= p.threshold {
+    if reaches(inc, p.threshold) {
         return Decision::Disoriented(Disoriented::Inconsistent { inconsistency: inc });
     }
     let max_support = d.support.iter().copied().fold(0.0, f64::max);
-    if nb < p.threshold && max_support < p.threshold {
+    if !reaches(nb, p.threshold) && !reaches(max_support, p.threshold) {
         return Decision::Disoriented(Disoriented::NothingAboveThreshold {
             best,
             support: d.support[best],

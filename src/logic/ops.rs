@@ -122,6 +122,40 @@ impl Normalisation {
     }
 }
 
+/// How the distributions of several named evidence groups (`group name { … }` in a rule file)
+/// are combined, world by world (DESIGN §3; Dubois & Prade's fusion of possibility
+/// distributions).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Fusion {
+    /// `π(k) = min_g π_g(k)`: the same as pooling every rule into one base (idempotent, for
+    /// sources that may share information).
+    #[default]
+    Min,
+    /// `π(k) = Π_g π_g(k)`: reinforcement, for independent sources (each source's doubt about a
+    /// place multiplies the other's).
+    Product,
+}
+
+impl Fusion {
+    /// The name used in rule files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Fusion::Min => "min",
+            Fusion::Product => "product",
+        }
+    }
+
+    /// The combination of two possibility degrees of one world.
+    #[inline]
+    pub fn apply(self, a: f64, b: f64) -> f64 {
+        match self {
+            Fusion::Min => a.min(b),
+            Fusion::Product => a * b,
+        }
+    }
+}
+
 /// The operators and decision parameters a rule file's `logic { … }` block chooses.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct LogicConfig {
@@ -135,6 +169,8 @@ pub struct LogicConfig {
     pub threshold: f64,
     /// How far a chosen place's necessity must exceed the inconsistency (default 0: strictly).
     pub margin: f64,
+    /// How the distributions of named evidence groups combine (default min).
+    pub fusion: Fusion,
 }
 
 impl Default for LogicConfig {
@@ -145,6 +181,7 @@ impl Default for LogicConfig {
             normalisation: Normalisation::Min,
             threshold: 0.5,
             margin: 0.0,
+            fusion: Fusion::Min,
         }
     }
 }

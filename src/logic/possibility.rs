@@ -18,8 +18,23 @@
 //! ```
 //!
 //! Every quantity is computed in `O(n)` with two running extremes, into buffers allocated once.
+//!
+//! Beyond single places, [`PlaceDistribution::update`] is three steps that the engine can
+//! interleave with more evidence: [`PlaceDistribution::fill_raw`] (the formula above),
+//! then any of
+//! - [`PlaceDistribution::constrain`]: a weighted head over a set of places, `(S, α)`, lowers each
+//!   world outside `S` to `1 − α`; a negated one, `(¬S, β)`, each world inside `S` to `1 − β`;
+//! - [`PlaceDistribution::fuse`]: the unnormalised distribution of another evidence group,
+//!   combined world by world by min or product ([`Fusion`]);
+//! - [`PlaceDistribution::condition`]: the region `A` is known from outside, so every world
+//!   outside `A` becomes impossible; the normalisation that follows is then min-based
+//!   (`π(k | A) = 1` where `π_k = Π(A)`, else `π_k`) or product-based (`π_k / Π(A)`)
+//!   conditioning, and `Inc = 1 − Π(A)` says how far the evidence disagrees with the region;
+//!
+//! and finally [`PlaceDistribution::finish`] (height, Inc, normalisation, N).
 
-use super::ops::Normalisation;
+use super::ops::{Fusion, Normalisation};
+use super::sets::PlaceSet;
 use serde::{Deserialize, Serialize};
 
 /// Supports, possibilities and necessities of `n` mutually exclusive places.
@@ -111,19 +126,67 @@ impl PlaceDistribution {
     ///
     /// With no places at all the height is 0 and the inconsistency 1: nothing is possible.
     pub fn update(&mut self, normalisation: Normalisation) {
+        self.fill_raw();
+        self.finish(normalisation);
+    }
+
+    /// Fills `possibility_raw` from `support` and `exclusion` (the module's formula for `π_k`).
+    pub fn fill_raw(&mut self) {
         let n = self.support.len();
         // min_{j≠k}(1 − α_j) = 1 − max_{j≠k} α_j; an empty min is 1.
         let sup = Top2::max_of(&self.support, |a| a);
-        let mut h = 0.0f64;
         for k in 0..n {
             let others = sup.max_except(k).max(0.0);
-            let p = (1.0 - others).min(1.0 - self.exclusion[k]);
-            self.possibility_raw[k] = p;
-            h = h.max(p);
+            let beta = self.exclusion.get(k).copied().unwrap_or(0.0);
+            self.possibility_raw[k] = (1.0 - others).min(1.0 - beta);
         }
+    }
+
+    /// The weighted head `(S, degree)` (or `(¬S, degree)` when `negated`): every world that
+    /// falsifies it is lowered to at most `1 − degree`.
+    pub fn constrain(&mut self, set: &PlaceSet, degree: f64, negated: bool) {
+        let cap = 1.0 - degree;
+        for (k, p) in self.possibility_raw.iter_mut().enumerate() {
+            if set.contains(k) == negated {
+                *p = p.min(cap);
+            }
+        }
+    }
+
+    /// Combines `possibility_raw` world by world with another group's unnormalised
+    /// distribution `other` (missing entries read as 1, which changes nothing).
+    pub fn fuse(&mut self, other: &[f64], fusion: Fusion) {
+        for (k, p) in self.possibility_raw.iter_mut().enumerate() {
+            *p = fusion.apply(*p, other.get(k).copied().unwrap_or(1.0));
+        }
+    }
+
+    /// Conditions on the region `known`: every world outside it becomes impossible. The
+    /// normalisation in [`Self::finish`] then makes this min- or product-based conditioning.
+    pub fn condition(&mut self, known: &PlaceSet) {
+        for (k, p) in self.possibility_raw.iter_mut().enumerate() {
+            if !known.contains(k) {
+                *p = 0.0;
+            }
+        }
+    }
+
+    /// Computes the height, `Inc`, `Π` and `N` from `possibility_raw`.
+    pub fn finish(&mut self, normalisation: Normalisation) {
+        let h = self.possibility_raw.iter().copied().fold(0.0, f64::max);
         self.height = h;
         self.inconsistency = 1.0 - h;
         self.normalise(normalisation);
+    }
+
+    /// `Π(S)` under the normalised distribution.
+    pub fn set_possibility(&self, set: &PlaceSet) -> f64 {
+        set.possibility(&self.possibility)
+    }
+
+    /// `N(S)` under the normalised distribution.
+    pub fn set_necessity(&self, set: &PlaceSet) -> f64 {
+        set.necessity(&self.possibility)
     }
 
     /// Computes `Π = π'` and `N` from `possibility_raw` (whatever filled it: [`Self::update`], or a

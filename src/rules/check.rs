@@ -20,7 +20,7 @@
 //!   `at_place`/`in_room`) that no firing rule concludes — is an error: it is dead code that
 //!   usually hides a misspelt head.
 
-use crate::logic::{Implication, LogicConfig, Normalisation, TNorm, Trapezoid};
+use crate::logic::{Fusion, Implication, LogicConfig, Normalisation, TNorm, Trapezoid};
 use crate::map::Map;
 use crate::syntax::ast::*;
 use crate::syntax::diagnostic::{Diagnostic, DiagnosticKind, KeySuffix, NeverFiresReason};
@@ -28,9 +28,15 @@ use crate::syntax::span::{Span, Spanned};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Names that rule files may not declare as domains.
-pub const BUILTIN_DOMAINS: [&str; 3] = ["Place", "Room", "Landmark"];
+pub const BUILTIN_DOMAINS: [&str; 4] = ["Place", "Room", "Landmark", "Region"];
 /// Names that rule files may not declare as percepts or predicates.
-pub const BUILTIN_PREDICATES: [&str; 4] = ["at_place", "in_room", "at_wall", "at_corner"];
+pub const BUILTIN_PREDICATES: [&str; 5] =
+    ["at_place", "in_room", "in_region", "at_wall", "at_corner"];
+
+/// The built-in heads that speak about sets of places (and so constrain the distribution).
+pub fn is_place_head(name: &str) -> bool {
+    matches!(name, "at_place" | "in_room" | "in_region")
+}
 
 /// The declared shape of a percept or derived predicate.
 #[derive(Debug, Clone, PartialEq)]
@@ -59,8 +65,23 @@ pub struct RuleSet {
     pub percepts: BTreeMap<String, Signature>,
     /// Derived predicates by name.
     pub predicates: BTreeMap<String, Signature>,
-    /// The rules in source order.
+    /// The rules in source order (those of `group` blocks in place).
     pub rules: Vec<Rule>,
+    /// Declared regions in declaration order, with the indices of their places.
+    pub regions: Vec<(String, Vec<usize>)>,
+    /// Declared evidence groups in declaration order (a rule's group is its position + 1;
+    /// group 0 holds the rules written outside any group).
+    pub groups: Vec<String>,
+}
+
+impl RuleSet {
+    /// The evidence group of rule `r`: 0 outside every group, else the group's position + 1.
+    pub fn group_of(&self, r: &Rule) -> usize {
+        r.group
+            .as_ref()
+            .and_then(|g| self.groups.iter().position(|x| x == &g.node))
+            .map_or(0, |i| i + 1)
+    }
 }
 
 /// Checks `file` against `map`; returns the rule set or every problem found, sorted by position.
@@ -77,14 +98,19 @@ pub fn check_rules(file: &RuleFile, map: &Map) -> Result<RuleSet, Vec<Diagnostic
             percepts: BTreeMap::new(),
             predicates: BTreeMap::new(),
             rules: Vec::new(),
+            regions: Vec::new(),
+            groups: Vec::new(),
         },
         domain_spans: BTreeMap::new(),
     };
     c.builtin_domains();
+    c.regions(file);
     c.declarations(file);
     for item in &file.items {
-        if let RuleItem::Rule(r) = item {
-            c.rule(r);
+        match item {
+            RuleItem::Rule(r) => c.rule(r),
+            RuleItem::Group(g) => g.rules.iter().for_each(|r| c.rule(r)),
+            _ => {}
         }
     }
     c.never_fires();
@@ -171,6 +197,92 @@ impl Checker<'_> {
             "Landmark".into(),
             m.landmarks().iter().map(|l| l.name.clone()).collect(),
         );
+    }
+
+    /// Region declarations (`region Name = {…};`, `region Name = kind k;`) and group names; fills
+    /// the built-in `Region` domain.
+    fn regions(&mut self, file: &RuleFile) {
+        let mut spans: BTreeMap<String, Span> = BTreeMap::new();
+        let mut group_spans: BTreeMap<String, Span> = BTreeMap::new();
+        for item in &file.items {
+            match item {
+                RuleItem::Region(r) => self.region(r, &mut spans),
+                RuleItem::Group(g) => {
+                    if let Some(first) = group_spans.get(&g.name.node) {
+                        let first = *first;
+                        self.dup("group", &g.name, first);
+                    } else {
+                        group_spans.insert(g.name.node.clone(), g.name.span);
+                        self.set.groups.push(g.name.node.clone());
+                    }
+                }
+                _ => {}
+            }
+        }
+        let names = self.set.regions.iter().map(|(n, _)| n.clone()).collect();
+        self.set.domains.insert("Region".into(), names);
+    }
+
+    fn region(&mut self, r: &RegionDecl, spans: &mut BTreeMap<String, Span>) {
+        let name = &r.name.node;
+        if let Some(first) = spans.get(name) {
+            let first = *first;
+            self.dup("region", &r.name, first);
+            return;
+        }
+        let m = self.map;
+        let taken = if m.places().iter().any(|p| &p.name == name) {
+            Some("place")
+        } else if m.rooms().iter().any(|x| &x.name == name) {
+            Some("room")
+        } else {
+            None
+        };
+        if let Some(what) = taken {
+            let kind = DiagnosticKind::RegionNameTaken {
+                name: name.clone(),
+                what,
+            };
+            self.err(kind, r.name.span);
+            return;
+        }
+        spans.insert(name.clone(), r.name.span);
+        let mut members = Vec::new();
+        match &r.members {
+            RegionMembers::Places(ps) => {
+                for p in ps {
+                    match m.places().iter().position(|x| x.name == p.node) {
+                        Some(k) if !members.contains(&k) => members.push(k),
+                        Some(_) => {}
+                        None => self.err(
+                            DiagnosticKind::UnknownPlace {
+                                name: p.node.clone(),
+                            },
+                            p.span,
+                        ),
+                    }
+                }
+            }
+            RegionMembers::Kind(k) => {
+                members.extend(
+                    m.places()
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, p)| p.kind == k.node)
+                        .map(|(i, _)| i),
+                );
+                if members.is_empty() {
+                    self.err(
+                        DiagnosticKind::UnknownKind {
+                            name: k.node.clone(),
+                        },
+                        k.span,
+                    );
+                }
+            }
+        }
+        members.sort_unstable();
+        self.set.regions.push((name.clone(), members));
     }
 
     fn declarations(&mut self, file: &RuleFile) {
@@ -313,6 +425,11 @@ impl Checker<'_> {
                 "normalisation" | "normalization" => match word {
                     Some("min") => self.set.logic.normalisation = Normalisation::Min,
                     Some("product") => self.set.logic.normalisation = Normalisation::Product,
+                    _ => self.err(bad("min or product"), s.value.span),
+                },
+                "fusion" => match word {
+                    Some("min") => self.set.logic.fusion = Fusion::Min,
+                    Some("product") => self.set.logic.fusion = Fusion::Product,
                     _ => self.err(bad("min or product"), s.value.span),
                 },
                 "threshold" | "margin" => match number {
@@ -465,9 +582,17 @@ impl Checker<'_> {
         }
         // The head.
         let name = r.head.atom.name.node.as_str();
-        let head_ok =
-            matches!(name, "at_place" | "in_room") || self.set.predicates.contains_key(name);
-        if head_ok {
+        let head_ok = is_place_head(name) || self.set.predicates.contains_key(name);
+        if head_ok && r.head.negated && !is_place_head(name) {
+            // `(¬q, β)` would need q's own possibility distribution; bodies read `q` as a
+            // degree, so such a head could never be used: say so instead of ignoring it.
+            self.err(
+                DiagnosticKind::NegatedDerivedHead {
+                    name: name.to_string(),
+                },
+                r.head.span,
+            );
+        } else if head_ok {
             self.atom(&r.head.atom, &b);
         } else {
             self.err(
@@ -573,6 +698,7 @@ impl Checker<'_> {
         let kind = match dom {
             "Place" => DiagnosticKind::UnknownPlace { name },
             "Room" => DiagnosticKind::UnknownRoom { name },
+            "Region" => DiagnosticKind::UnknownRegion { name },
             "Landmark" => DiagnosticKind::UnknownLandmark { name },
             _ => DiagnosticKind::UnknownDomainValue {
                 domain: dom.to_string(),
@@ -636,22 +762,22 @@ impl Checker<'_> {
     fn atom(&mut self, a: &Atom, b: &Bindings) {
         let name = a.name.node.as_str();
         match name {
-            "at_place" | "in_room" => {
+            "at_place" | "in_room" | "in_region" => {
                 if !self.arity(a, 1) {
                     return;
                 }
-                let (dom, own) = if name == "at_place" {
-                    ("Place", "P")
-                } else {
-                    ("Room", "R")
+                let (dom, own) = match name {
+                    "at_place" => ("Place", "P"),
+                    "in_room" => ("Room", "R"),
+                    _ => ("Region", "-"),
                 };
                 match &a.args[0].node {
                     Term::PlaceRef { name: n, key: None } if n == own => {}
                     _ => {
-                        let expected = if name == "at_place" {
-                            "`P_i`, a place name or a `for all` variable over Place"
-                        } else {
-                            "`R_i`, a room name or a `for all` variable over Room"
+                        let expected = match name {
+                            "at_place" => "`P_i`, a place name or a `for all` variable over Place",
+                            "in_room" => "`R_i`, a room name or a `for all` variable over Room",
+                            _ => "a region name or a `for all` variable over Region",
                         };
                         self.domain_arg(a, 0, dom, b, expected);
                     }
@@ -834,6 +960,9 @@ impl Checker<'_> {
                     {
                         return Some(NeverFiresReason::EmptySchema);
                     }
+                    if r.weight.as_ref().is_some_and(|w| w.node <= 0.0) {
+                        return Some(NeverFiresReason::ZeroWeight);
+                    }
                     zero_reason(&r.body.node, &self.set, &concluded)
                 })
                 .collect();
@@ -872,7 +1001,7 @@ fn zero_reason(f: &Formula, set: &RuleSet, concluded: &BTreeSet<&str>) -> Option
     match f {
         Formula::Atom(a) => {
             let n = a.name.node.as_str();
-            let derived = matches!(n, "at_place" | "in_room") || set.predicates.contains_key(n);
+            let derived = is_place_head(n) || set.predicates.contains_key(n);
             (derived && !concluded.contains(n)).then(|| NeverFiresReason::NeverConcluded {
                 predicate: n.to_string(),
             })
@@ -939,6 +1068,7 @@ fn collect_atom_var_domains(a: &Atom, set: &RuleSet, out: &mut BTreeMap<String, 
     let roles: Vec<ArgRole> = match n {
         "at_place" => vec![ArgRole::Domain("Place".into())],
         "in_room" => vec![ArgRole::Domain("Room".into())],
+        "in_region" => vec![ArgRole::Domain("Region".into())],
         _ => match set.percepts.get(n).or_else(|| set.predicates.get(n)) {
             Some(s) => s.roles.clone(),
             None => return,

@@ -561,6 +561,7 @@ impl Simulator {
             odometry: Some(odometry),
             heading,
             percepts,
+            region: None,
             truth: Some(Truth {
                 place: place.map(|p| self.map.places()[p].name.clone()),
                 pose: Some([r3(self.pose.0), r3(self.pose.1), r3(self.pose.2)]),

@@ -57,6 +57,42 @@ pub enum RuleItem {
     Predicate(PredicateDecl),
     /// `[schemas] |- sequent [schemas];`
     Rule(Rule),
+    /// `region Name = {P1, P2};` or `region Name = kind doorway;`
+    Region(RegionDecl),
+    /// `group name { rules }`: rules whose place conclusions form one evidence group.
+    Group(GroupBlock),
+}
+
+/// `region Name = {P1, P2};` or `region Name = kind doorway;` — a named set of places that
+/// heads (`in_region(Name)`) and queries can speak about.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegionDecl {
+    /// Region name (upper-case initial).
+    pub name: Ident,
+    /// Its places.
+    pub members: RegionMembers,
+    /// The whole declaration.
+    pub span: Span,
+}
+
+/// What a region is made of.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RegionMembers {
+    /// Places by name.
+    Places(Vec<Ident>),
+    /// Every place of a map kind (`corner`, `doorway`, …).
+    Kind(Ident),
+}
+
+/// `group name { rules }`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GroupBlock {
+    /// The group's name.
+    pub name: Ident,
+    /// Its rules (each has `group` set to this name).
+    pub rules: Vec<Rule>,
+    /// The whole block.
+    pub span: Span,
 }
 
 /// `logic { … }`: the file's choice of operators and decision parameters.
@@ -183,6 +219,8 @@ pub struct Rule {
     pub head: Literal,
     /// The necessity weight `w` of `(body -> head, w)`; `None` means 1.
     pub weight: Option<Spanned<f64>>,
+    /// The evidence group the rule is written in (`group name { … }`), if any.
+    pub group: Option<Ident>,
     /// The whole rule.
     pub span: Span,
 }

@@ -108,6 +108,8 @@ pub enum NeverFiresReason {
     },
     /// A schema ranges over nothing (an empty domain or tuple set), so the rule has no instances.
     EmptySchema,
+    /// The rule's weight is 0, so whatever its body, its conclusion gets 0.
+    ZeroWeight,
 }
 
 impl fmt::Display for NeverFiresReason {
@@ -118,6 +120,9 @@ impl fmt::Display for NeverFiresReason {
                 write!(f, "its body needs `{predicate}`, which no rule concludes")
             }
             NeverFiresReason::EmptySchema => f.write_str("a `for all` clause ranges over nothing"),
+            NeverFiresReason::ZeroWeight => {
+                f.write_str("its weight is 0, so its conclusion gets 0 whatever the body")
+            }
         }
     }
 }
@@ -323,8 +328,9 @@ pub enum DiagnosticKind {
         /// Number of values.
         found: usize,
     },
-    /// A rule concluding something that is not a declared predicate, `at_place` or `in_room`.
-    #[error("`{name}` cannot be the head of a rule: only declared predicates, `at_place` and `in_room` can")]
+    /// A rule concluding something that is not a declared predicate, `at_place`, `in_room` or
+    /// `in_region`.
+    #[error("`{name}` cannot be the head of a rule: only declared predicates, `at_place`, `in_room` and `in_region` can")]
     BadHead {
         /// The head's name.
         name: String,
@@ -369,6 +375,33 @@ pub enum DiagnosticKind {
     #[error("predicate `{name}` is defined in terms of itself")]
     RecursivePredicate {
         /// The predicate.
+        name: String,
+    },
+    /// A negated head `!q` of a declared predicate: bodies read `q` as a degree, so `(¬q, β)`
+    /// could never be used.
+    #[error("`!{name}` cannot be concluded: a negated head must be `at_place`, `in_room` or `in_region`")]
+    NegatedDerivedHead {
+        /// The predicate.
+        name: String,
+    },
+    /// A region named like a place or room of the map (queries name all three alike).
+    #[error("region `{name}` has the name of a {what} of the map")]
+    RegionNameTaken {
+        /// The name.
+        name: String,
+        /// `place` or `room`.
+        what: &'static str,
+    },
+    /// A region over a kind no place of the map has.
+    #[error("no place of the map is of kind `{name}`")]
+    UnknownKind {
+        /// The kind.
+        name: String,
+    },
+    /// A region name that is not declared.
+    #[error("unknown region `{name}`")]
+    UnknownRegion {
+        /// The name.
         name: String,
     },
 
@@ -437,9 +470,9 @@ impl DiagnosticKind {
             K::UnknownSimilarity { .. } => "declare it with `similarity name = trapezoid(…);`",
             K::UndefinedParameter { .. } => "add `param …` to the places of the map that should expect it",
             K::DegreeOutOfRange { .. } => "degrees and weights are numbers between 0 and 1",
-            K::UnknownSetting { .. } => "settings are tnorm, implication, normalisation, threshold and margin",
+            K::UnknownSetting { .. } => "settings are tnorm, implication, normalisation, fusion, threshold and margin",
             K::BadSettingValue { .. } => {
-                "tnorm: min|product|lukasiewicz; implication: residuum|min_mp; normalisation: min|product; threshold, margin: numbers in [0, 1]"
+                "tnorm: min|product|lukasiewicz; implication: residuum|min_mp; normalisation, fusion: min|product; threshold, margin: numbers in [0, 1]"
             }
             K::UnknownShape { .. } => "the only similarity shape is `trapezoid`",
             K::UnknownField { .. } => "trapezoid fields are core, slope, height, bias and period",
@@ -457,8 +490,16 @@ impl DiagnosticKind {
             K::MapRelationNeedsDirections { .. } => {
                 "at_wall needs a percept with a `Dir` argument, at_corner one with two"
             }
-            K::RuleNeverFires { .. } => "add a rule that concludes the missing predicate, or remove this rule",
+            K::RuleNeverFires { .. } => {
+                "give it a positive weight or add a rule that concludes what it needs; or remove it"
+            }
             K::RecursivePredicate { .. } => "derived predicates must not depend on themselves",
+            K::NegatedDerivedHead { .. } => {
+                "conclude a predicate for the opposite instead, or exclude places with `!at_place`/`!in_region`"
+            }
+            K::RegionNameTaken { .. } => "give the region a name no place or room has",
+            K::UnknownKind { .. } => "use a kind written in the map's `place NAME KIND …` lines",
+            K::UnknownRegion { .. } => "declare it with `region Name = {P1, P2};` in the rule file",
             K::PathToUnknownPlace { .. } => "declare the place, or fix the spelling",
             K::DuplicatePath { .. } => "keep one path between the two places",
             K::SelfPath { .. } => "paths join two different places",

@@ -45,6 +45,42 @@ pub fn parse_rules(text: &str) -> Result<RuleFile, Vec<Diagnostic>> {
     }
 }
 
+/// Parses one formula of the rule language on its own (what `--query` takes: sets of places
+/// combined with `!`, `&`, `(+)`). On failure returns the syntax errors.
+///
+/// ```
+/// let f = lplace::syntax::parse_rules::parse_query("!EastWing & in_room(R0)").unwrap();
+/// assert!(matches!(f.node, lplace::syntax::ast::Formula::And(_)));
+/// ```
+pub fn parse_query(text: &str) -> Result<Spanned<Formula>, Vec<Diagnostic>> {
+    use pest::Parser as _;
+    if let Some(d) = super::recover::nesting_check(text) {
+        return Err(vec![d]);
+    }
+    let mut diags = Vec::new();
+    let pairs = match RulesGrammar::parse(R::query, text) {
+        Ok(p) => p,
+        Err(e) => return Err(vec![super::recover::syntax_error(text, 0, &e, rules_label)]),
+    };
+    let mut b = Builder {
+        base: 0,
+        diags: &mut diags,
+    };
+    let f = pairs
+        .flat_map(|q| q.into_inner())
+        .find(|x| x.as_rule() == R::formula)
+        .and_then(|x| b.formula(x));
+    match f {
+        Some(f) if diags.is_empty() => Ok(f),
+        _ => {
+            if diags.is_empty() {
+                diags.push(internal("empty query", Span::new(0, text.len())));
+            }
+            Err(diags)
+        }
+    }
+}
+
 /// Turns the pairs of one item into AST nodes, shifting spans by `base`.
 pub(crate) struct Builder<'d> {
     pub(crate) base: usize,
@@ -100,7 +136,9 @@ impl Builder<'_> {
             }
             R::similarity_decl => self.similarity(it, span).map(RuleItem::Similarity),
             R::percept_decl | R::predicate_decl => self.declaration(kind, it, span),
-            R::rule => self.rule(it, span).map(RuleItem::Rule),
+            R::rule => self.rule(span, it, None).map(RuleItem::Rule),
+            R::region_decl => self.region(span, it),
+            R::group_block => self.group(it, span),
             _ => {
                 self.diags.push(internal("unexpected item", span));
                 None
@@ -178,8 +216,21 @@ impl Builder<'_> {
         }
     }
 
-    /// A rule: its schemas (`for all …`) and its sequent.
-    fn rule(&mut self, it: Pairs<'_, R>, span: Span) -> Option<Rule> {
+    /// A `group NAME { rules }` block: its rules carry the group's name.
+    fn group(&mut self, mut it: Pairs<'_, R>, span: Span) -> Option<RuleItem> {
+        it.next(); // keyword
+        let name = self.next(&mut it, span, "group without name")?;
+        let name = self.ident(&name);
+        let mut rules = Vec::new();
+        for r in it.filter(|r| r.as_rule() == R::rule) {
+            let rspan = self.span(&r);
+            rules.push(self.rule(rspan, r.into_inner(), Some(name.clone()))?);
+        }
+        Some(RuleItem::Group(GroupBlock { name, rules, span }))
+    }
+
+    /// A rule: its schemas (`for all …`) and its sequent; `group` names its evidence group.
+    fn rule(&mut self, span: Span, it: Pairs<'_, R>, group: Option<Ident>) -> Option<Rule> {
         let mut schemas = Vec::new();
         let mut sequent = None;
         for x in it {
@@ -198,8 +249,31 @@ impl Builder<'_> {
             body,
             head,
             weight,
+            group,
             span,
         })
+    }
+
+    /// `region Name = {…};` or `region Name = kind k;`, after the keyword.
+    fn region(&mut self, span: Span, mut it: Pairs<'_, R>) -> Option<RuleItem> {
+        it.next(); // keyword
+        let name = self.next(&mut it, span, "region without name")?;
+        let name = self.ident(&name);
+        let body = self.next(&mut it, span, "region without places")?;
+        let members = if body.as_rule() == R::region_kind {
+            let Some(kind) = body.into_inner().find(|x| x.as_rule() == R::ident) else {
+                self.diags.push(internal("region without kind", span));
+                return None;
+            };
+            RegionMembers::Kind(self.ident(&kind))
+        } else {
+            RegionMembers::Places(body.into_inner().map(|v| self.ident(&v)).collect())
+        };
+        Some(RuleItem::Region(RegionDecl {
+            name,
+            members,
+            span,
+        }))
     }
 
     fn role(&self, p: &Pair<'_, R>) -> Spanned<ArgRole> {
