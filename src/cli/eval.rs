@@ -3,22 +3,20 @@
 //!
 //! The stream is read line by line ([`crate::io::stream`]) — on a second thread, a few batches
 //! ahead, when the machine has a second core ([`Threads::available`]) — and each frame stepped
-//! through the engine and, unless `--no-track`, the [`Tracker`]; decisions are written as they
+//! by a [`StreamRun`] (the engine and, unless `--no-track`, the tracker); decisions are written as they
 //! come, so memory stays flat on any length. Rejected records are reported on stderr as `STREAM:LINE: reason`, counted,
 //! and make the exit code 3.
 
 use super::args::{ArgError, EvalArgs, Format, StreamForm, SummaryFormat};
 use super::{load_engine, CliError, EXIT_OK, EXIT_REJECTED};
-use crate::engine::tracker::{PlaceTracker, TrackerConfig};
-use crate::engine::{CompileOptions, Engine};
+use crate::engine::tracker::TrackerConfig;
+use crate::engine::CompileOptions;
 use crate::io::record::FrameRecord;
-use crate::io::stream::{
-    read_records, FrameMeta, Record, Schema, StreamFormat, StreamReader, Threads,
-};
-use crate::logic::{Decision, DecisionParams, PlaceDistribution};
+use crate::io::stream::{read_records, FrameMeta, Record, StreamFormat, StreamReader, Threads};
+use crate::logic::{Decision, PlaceDistribution};
 use crate::report::summary::reason_name;
 use crate::report::trajectory::{self, TrajectoryPoint, Verdict};
-use crate::report::{RunPlot, Tally};
+use crate::report::{RunPlot, StreamRun};
 use std::io::{BufRead, BufReader, IsTerminal, Write};
 
 /// The bundled office recording (made by `lplace simulate`, see docs/streams.md).
@@ -160,27 +158,14 @@ fn write_u64(out: &mut impl Write, mut n: u64) -> std::io::Result<()> {
 
 /// Everything one stream evaluation needs, built once.
 struct Session<'a> {
-    engine: Engine,
-    tracker: Option<PlaceTracker>,
+    run: StreamRun,
     places: Vec<String>,
     args: &'a EvalArgs,
 }
 
 impl Session<'_> {
-    /// Steps one frame; returns the decision and the distribution it was drawn from.
-    fn step(&mut self, frame: &crate::engine::Frame, meta: &FrameMeta) -> Decision {
-        self.engine.step(frame);
-        match &mut self.tracker {
-            Some(t) => t.step(self.engine.distribution(), meta.odometry, meta.heading),
-            None => self.engine.decision(),
-        }
-    }
-
     fn dist(&self) -> &PlaceDistribution {
-        match &self.tracker {
-            Some(t) => t.distribution(),
-            None => self.engine.distribution(),
-        }
+        self.run.distribution()
     }
 
     fn write_header(&self, out: &mut impl Write) -> std::io::Result<()> {
@@ -361,33 +346,16 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
         (None, Some(p)) => StreamFormat::from_path(p),
         (None, None) => StreamFormat::JsonLines,
     };
-    let schema = Schema::new(engine.percepts(), engine.map());
-    let places = schema.places().to_vec();
-    let reader = StreamReader::new(input, schema, format);
-    let logic = engine.rules().logic;
-    let tracker = (!args.no_track).then(|| {
-        PlaceTracker::new(
-            engine.map(),
-            DecisionParams {
-                threshold: logic.threshold,
-                margin: logic.margin,
-            },
-            cfg,
-        )
-    });
-    let mut tally = Tally::new(places.clone(), tracker.is_some());
+    let map_for_picture = args.trajectory.as_ref().map(|_| engine.map().clone());
+    let run = StreamRun::new(engine, (!args.no_track).then_some(cfg));
+    let places = run.places().to_vec();
+    let reader = StreamReader::new(input, run.schema(), format);
     let mut plot = args
         .plot
         .as_ref()
         .map(|_| RunPlot::new(places.clone(), format!("lplace eval {name}")));
     let mut points: Option<Vec<TrajectoryPoint>> = args.trajectory.as_ref().map(|_| Vec::new());
-    let map_for_picture = args.trajectory.as_ref().map(|_| engine.map().clone());
-    let mut session = Session {
-        engine,
-        tracker,
-        places,
-        args,
-    };
+    let mut session = Session { run, places, args };
     // A progress bar only for a file with a person watching stderr.
     let progress = match size {
         Some(len) if std::io::stderr().is_terminal() => {
@@ -430,11 +398,10 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
                         Some(bar) => bar.suspend(|| eprintln!("{msg}")),
                         None => eprintln!("{msg}"),
                     }
-                    tally.reject(&e.reason);
+                    session.run.reject(&e.reason);
                 }
                 Record::Frame(frame, meta) => {
-                    let d = session.step(frame, meta);
-                    tally.record(d, meta);
+                    let d = session.run.step(frame, meta);
                     if let Some(p) = &mut plot {
                         p.push(session.dist(), d, meta.truth_place);
                     }
@@ -463,7 +430,7 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
     if let Some(bar) = &progress {
         bar.finish_and_clear();
     }
-    let summary = tally.finish();
+    let summary = session.run.summary();
     if args.only_summary {
         write_summary(&summary, args.summary, &mut w)?;
     }
