@@ -32,9 +32,11 @@ print(f"{ext.frames} frames from {ext.lines} log lines; {len(ext.malformed)} mal
 # %% 2. Evaluate (the grid tracker of the README's Intel table)
 res = lplace.evaluate(ext.records, MAP, RULES, tracker=REPO / "config" / "intel-tracker.ron")
 truth = res.summary["truth"]
+decided_at_place = truth["correct"] + truth["wrong"]
 print(
-    f"decided {res.summary['decided']} of {res.summary['frames']}; "
-    f"right {truth['accuracy']:.1%} at a place, confidently wrong {truth['confidently_wrong_rate']:.2%}"
+    f"decided {res.summary['decided']} of {res.summary['frames']} frames; "
+    f"right {truth['correct'] / max(decided_at_place, 1):.1%} of the decisions at a place; "
+    f"confidently wrong {truth['confidently_wrong_rate']:.2%} of the frames at a place"
 )
 df = res.table.to_pandas()
 
@@ -55,7 +57,8 @@ fig.tight_layout()
 fig.savefig("intel-necessity.png", dpi=120)
 
 # %% 4. Score with evo: decided frames at their place's pose, against the corrected pose
-poses = dict(zip(lplace.Engine.load(MAP, RULES).places, lplace.Engine.load(MAP, RULES).place_poses))
+engine = lplace.Engine.load(MAP, RULES)
+poses = dict(zip(engine.places, engine.place_poses))
 records = {i + 1: json.loads(line) for i, line in enumerate(ext.records)}
 with open("intel-est.tum", "w") as est, open("intel-ref.tum", "w") as ref:
     for row in df.itertuples():
@@ -66,4 +69,7 @@ with open("intel-est.tum", "w") as est, open("intel-ref.tum", "w") as ref:
         x, y = poses[row.place]
         est.write(f"{row.t:.6f} {x} {y} 0 0 0 0 1\n")
         ref.write(f"{row.t:.6f} {pose[0]} {pose[1]} 0 0 0 0 1\n")
-subprocess.run(["evo_ape", "tum", "intel-ref.tum", "intel-est.tum"], check=True)
+# evo's scripts sit beside this interpreter in a venv, which need not be on PATH.
+beside = Path(sys.executable).parent / "evo_ape"
+evo_ape = str(beside) if beside.exists() else "evo_ape"
+subprocess.run([evo_ape, "tum", "intel-ref.tum", "intel-est.tum"], check=True)

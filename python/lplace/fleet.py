@@ -109,7 +109,8 @@ def evaluate_log(
     row = _row(name, path)
     part = os.path.join(out, f"log={name}")
     final = os.path.join(part, "part-0.parquet")
-    tmp = final + ".partial"
+    # A leading underscore hides the file from pyarrow, pandas, Polars and Spark readers.
+    tmp = os.path.join(part, "_part-0.parquet.partial")
     try:
         engine = _lplace.Engine.from_strings(
             model["map"], model["rules"], model["map_name"], model["rules_name"]
@@ -139,10 +140,12 @@ def evaluate_log(
             summary_json=json.dumps(summary, sort_keys=True),
             rejections=batches.rejected,
         )
-    except (OSError, ValueError, CheckError) as e:
+    except Exception as e:  # noqa: BLE001 — the contract: a bad log fails its row, not the batch
         row.update(status="failed", error=f"{type(e).__name__}: {e}")
-        if os.path.exists(tmp):
-            os.remove(tmp)
+        # Neither a half-written file nor an earlier run's output may pass for this log's.
+        for stale in (tmp, final):
+            if os.path.exists(stale):
+                os.remove(stale)
     row["seconds"] = time.perf_counter() - start
     return row
 

@@ -152,16 +152,16 @@ struct Columns {
     necessities: Vec<f64>,
 }
 
-/// Steps every row of `degrees`/`values` (row-major, `slots` wide) through `engine` into
+/// Steps the `n` rows of `degrees`/`values` (row-major, `slots` wide) through `engine` into
 /// `frame`; pure Rust, run with the GIL released.
 fn step_rows(
     engine: &mut Engine,
     frame: &mut Frame,
+    n: usize,
     degrees: &[f64],
     values: Option<&[f64]>,
     slots: usize,
 ) -> Columns {
-    let n = degrees.len().checked_div(slots).unwrap_or(0);
     let k = engine.map().places().len();
     let mut c = Columns {
         place: Vec::with_capacity(n),
@@ -173,10 +173,13 @@ fn step_rows(
         necessities: Vec::with_capacity(n * k),
     };
     for i in 0..n {
+        // `rows` checked that both arrays hold `n × slots` entries.
         let row = i * slots..(i + 1) * slots;
-        frame.degree.copy_from_slice(&degrees[row.clone()]);
-        match values {
-            Some(v) => frame.value.copy_from_slice(&v[row]),
+        if let Some(d) = degrees.get(row.clone()) {
+            frame.degree.copy_from_slice(d);
+        }
+        match values.and_then(|v| v.get(row)) {
+            Some(v) => frame.value.copy_from_slice(v),
             None => frame.value.fill(f64::NAN),
         }
         let d = engine.step(frame);
@@ -353,7 +356,7 @@ impl PyEngine {
             }
         };
         let (engine, frame) = (&mut self.engine, &mut self.frame);
-        let c = py.allow_threads(|| step_rows(engine, frame, d, v, slots));
+        let c = py.allow_threads(|| step_rows(engine, frame, n, d, v, slots));
         let k = self.places.len();
         let out = PyDict::new(py);
         out.set_item("place", PyArray1::from_vec(py, c.place))?;
@@ -394,21 +397,31 @@ pub(crate) fn rust_loop_ns(
     outputs: bool,
 ) -> PyResult<u64> {
     let slots = engine.frame.degree.len();
-    let (_, d) = rows(&degrees, slots, "degrees")?;
+    let (n, d) = rows(&degrees, slots, "degrees")?;
     let v = match &values {
         None => None,
-        Some(v) => Some(rows(v, slots, "values")?.1),
+        Some(v) => match rows(v, slots, "values")? {
+            (m, v) if m == n => Some(v),
+            (m, _) => {
+                return Err(PyValueError::new_err(format!(
+                    "values has {m} rows, degrees has {n}"
+                )))
+            }
+        },
     };
     let (e, frame) = (&mut engine.engine, &mut engine.frame);
     Ok(py.allow_threads(|| {
         let start = std::time::Instant::now();
         if outputs {
-            std::hint::black_box(step_rows(e, frame, d, v, slots));
+            std::hint::black_box(step_rows(e, frame, n, d, v, slots));
         } else {
-            for (i, row) in d.chunks_exact(slots.max(1)).enumerate() {
-                frame.degree.copy_from_slice(row);
-                match v {
-                    Some(v) => frame.value.copy_from_slice(&v[i * slots..(i + 1) * slots]),
+            for i in 0..n {
+                let row = i * slots..(i + 1) * slots;
+                if let Some(d) = d.get(row.clone()) {
+                    frame.degree.copy_from_slice(d);
+                }
+                match v.and_then(|v| v.get(row)) {
+                    Some(v) => frame.value.copy_from_slice(v),
                     None => frame.value.fill(f64::NAN),
                 }
                 std::hint::black_box(e.step(frame));
