@@ -75,7 +75,11 @@ impl StreamRun {
     pub fn step(&mut self, frame: &Frame, meta: &FrameMeta) -> Decision {
         self.engine.step(frame);
         let d = match &mut self.tracker {
-            Some(t) => t.step(self.engine.distribution(), meta.odometry, meta.heading),
+            Some(t) => t.step(
+                self.engine.distribution(),
+                meta.odometry.to_si(),
+                meta.heading,
+            ),
             None => self.engine.decision(),
         };
         self.tally.record(d, meta);
