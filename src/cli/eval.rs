@@ -3,24 +3,21 @@
 //!
 //! The stream is read line by line ([`crate::io::stream`]) — on a second thread, a few batches
 //! ahead, when the machine has a second core ([`Threads::available`]) — and each frame stepped
-//! through the engine and, unless `--no-track`, the [`Tracker`]; decisions are written as they
+//! by a [`StreamRun`] (the engine and, unless `--no-track`, the tracker); decisions are written as they
 //! come, so memory stays flat on any length. Rejected records are reported on stderr as `STREAM:LINE: reason`, counted,
 //! and make the exit code 3.
 
 use super::args::{ArgError, EvalArgs, Format, StreamForm, SummaryFormat};
 use super::{load_engine, CliError, EXIT_OK, EXIT_REJECTED};
-use crate::engine::outcome::QueryOutcome;
-use crate::engine::tracker::{PlaceTracker, TrackerConfig};
+use crate::engine::tracker::TrackerConfig;
 use crate::engine::{CompileOptions, Engine};
 use crate::io::record::FrameRecord;
-use crate::io::stream::{
-    read_records, FrameMeta, Record, Schema, StreamFormat, StreamReader, Threads,
-};
-use crate::logic::{Decision, DecisionParams, PlaceDistribution, PlaceSet};
+use crate::io::stream::{read_records, FrameMeta, Record, StreamFormat, StreamReader, Threads};
+use crate::logic::{Decision, PlaceDistribution, PlaceSet};
 use crate::report::summary::reason_name;
 use crate::report::trajectory::{self, TrajectoryPoint, Verdict};
-use crate::report::{RunPlot, Tally};
-use std::io::{BufRead, IsTerminal, Write};
+use crate::report::{RunPlot, StreamRun};
+use std::io::{BufRead, BufReader, IsTerminal, Write};
 
 /// The bundled office recording (made by `lplace simulate`, see docs/streams.md).
 pub const OFFICE_RECORDING: &str = include_str!("../../recordings/office.jsonl");
@@ -222,36 +219,16 @@ fn write_u64(out: &mut impl Write, mut n: u64) -> std::io::Result<()> {
 
 /// Everything one stream evaluation needs, built once.
 struct Session<'a> {
-    engine: Engine,
-    tracker: Option<PlaceTracker>,
+    run: StreamRun,
     places: Vec<String>,
     args: &'a EvalArgs,
     /// `--query` sets, resolved once.
     queries: Vec<(String, PlaceSet)>,
-    /// The sets a record's `region` field may name (indexed like the stream schema's).
-    regions: Vec<PlaceSet>,
 }
 
 impl Session<'_> {
-    /// Steps one frame; returns the decision and the distribution it was drawn from.
-    fn step(&mut self, frame: &crate::engine::Frame, meta: &FrameMeta) -> Decision {
-        let known = meta.region.and_then(|r| self.regions.get(r as usize));
-        self.engine.step_within(frame, known);
-        match &mut self.tracker {
-            Some(t) => t.step(
-                self.engine.distribution(),
-                meta.odometry.to_si(),
-                meta.heading,
-            ),
-            None => self.engine.decision(),
-        }
-    }
-
     fn dist(&self) -> &PlaceDistribution {
-        match &self.tracker {
-            Some(t) => t.distribution(),
-            None => self.engine.distribution(),
-        }
+        self.run.distribution()
     }
 
     fn write_header(&self, out: &mut impl Write) -> std::io::Result<()> {
@@ -436,39 +413,20 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
         (None, None) => StreamFormat::JsonLines,
     };
     let queries = resolve_queries(&engine, &args.query)?;
-    let region_names = crate::engine::query::set_names(engine.map(), engine.rules());
-    let regions = region_names
-        .iter()
-        .filter_map(|n| engine.query_set(n).ok())
-        .collect();
-    let schema = Schema::new(engine.percepts(), engine.map()).with_regions(region_names);
-    let places = schema.places().to_vec();
-    let reader = StreamReader::new(input, schema, format);
-    let logic = engine.rules().logic;
-    let tracker = (!args.no_track).then(|| {
-        PlaceTracker::new(
-            engine.map(),
-            DecisionParams {
-                threshold: logic.threshold,
-                margin: logic.margin,
-            },
-            cfg,
-        )
-    });
-    let mut tally = Tally::new(places.clone(), tracker.is_some());
+    let map_for_picture = args.trajectory.as_ref().map(|_| engine.map().clone());
+    let run = StreamRun::new(engine, (!args.no_track).then_some(cfg));
+    let places = run.places().to_vec();
+    let reader = StreamReader::new(input, run.schema(), format);
     let mut plot = args
         .plot
         .as_ref()
         .map(|_| RunPlot::new(places.clone(), format!("lplace eval {name}")));
     let mut points: Option<Vec<TrajectoryPoint>> = args.trajectory.as_ref().map(|_| Vec::new());
-    let map_for_picture = args.trajectory.as_ref().map(|_| engine.map().clone());
     let mut session = Session {
-        engine,
-        tracker,
+        run,
         places,
         args,
         queries,
-        regions,
     };
     // A progress bar only for a file with a person watching stderr.
     let progress = match size {
@@ -512,11 +470,10 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
                         Some(bar) => bar.suspend(|| eprintln!("{msg}")),
                         None => eprintln!("{msg}"),
                     }
-                    tally.reject(&e.reason);
+                    session.run.reject(&e.reason);
                 }
                 Record::Frame(frame, meta) => {
-                    let d = session.step(frame, meta);
-                    tally.record(d, meta);
+                    let d = session.run.step(frame, meta);
                     if let Some(p) = &mut plot {
                         p.push(session.dist(), d, meta.truth_place);
                     }
@@ -545,7 +502,7 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
     if let Some(bar) = &progress {
         bar.finish_and_clear();
     }
-    let summary = tally.finish();
+    let summary = session.run.summary();
     if args.only_summary {
         write_summary(&summary, args.summary, &mut w)?;
     }

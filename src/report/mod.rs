@@ -2,13 +2,19 @@
 //! against ground truth, confusion matrix, kidnap recoveries) and the SVG run-time display of
 //! paper 003's Fig. 3 unrolled over time. Both are fed one frame at a time with bounded memory.
 //!
-//! Depends on `logic` (decisions, distributions) and `io::stream` (frame meta data, rejections);
-//! nothing depends on it except the command line.
+//! `run` is the per-frame loop of an evaluated stream (engine, tracker, tally), shared by the
+//! command line and the Python binding.
+//!
+//! Depends on `logic` (decisions, distributions), `engine` (the run's engine and tracker) and
+//! `io::stream` (frame meta data, rejections); nothing depends on it except the command line and
+//! the Python binding.
 
 pub mod plot;
+pub mod run;
 pub mod summary;
 pub mod sweep;
 pub mod trajectory;
 
 pub use plot::RunPlot;
+pub use run::StreamRun;
 pub use summary::{Summary, Tally};

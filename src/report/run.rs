@@ -1,0 +1,118 @@
+//! One evaluated stream, frame by frame: the engine's step, then (unless tracking is off) the
+//! graph tracker fed the frame's odometry and heading, then the [`Tally`] that becomes the
+//! [`Summary`]. This is the loop behind `lplace eval` and the Python binding's `evaluate`, kept
+//! in one place so that both give the same decisions and the same summary.
+//!
+//! Reading the stream and writing decisions stay with the caller (the command line writes text,
+//! the binding fills columns); this module only turns records into decisions and counts.
+//!
+//! Depends on `engine` (the engine and the tracker), `io::stream` (frame meta data, rejections)
+//! and `report::summary`.
+
+use crate::engine::tracker::{PlaceTracker, TrackerConfig};
+use crate::engine::{Engine, Frame};
+use crate::io::stream::{FrameMeta, Rejection, Schema};
+use crate::logic::{Decision, DecisionParams, PlaceDistribution, PlaceSet};
+use crate::report::summary::{Summary, Tally};
+
+/// An engine, its optional tracker and the running tally of one stream.
+#[derive(Debug, Clone)]
+pub struct StreamRun {
+    engine: Engine,
+    tracker: Option<PlaceTracker>,
+    tally: Tally,
+    places: Vec<String>,
+    /// The names a record's `region` field may take, and their sets (same order).
+    region_names: Vec<String>,
+    regions: Vec<PlaceSet>,
+}
+
+impl StreamRun {
+    /// A run over `engine`; `tracker` is the graph tracker's configuration, `None` for
+    /// frame-by-frame decisions (`lplace eval --no-track`).
+    pub fn new(engine: Engine, tracker: Option<TrackerConfig>) -> StreamRun {
+        let places = Schema::new(engine.percepts(), engine.map())
+            .places()
+            .to_vec();
+        let logic = engine.rules().logic;
+        let tracker = tracker.map(|cfg| {
+            PlaceTracker::new(
+                engine.map(),
+                DecisionParams {
+                    threshold: logic.threshold,
+                    margin: logic.margin,
+                },
+                cfg,
+            )
+        });
+        let tally = Tally::new(places.clone(), tracker.is_some());
+        let region_names = crate::engine::query::set_names(engine.map(), engine.rules());
+        let regions = region_names
+            .iter()
+            .filter_map(|n| engine.query_set(n).ok())
+            .collect();
+        StreamRun {
+            engine,
+            tracker,
+            tally,
+            places,
+            region_names,
+            regions,
+        }
+    }
+
+    /// The schema a stream reader needs for this run's engine.
+    pub fn schema(&self) -> Schema {
+        Schema::new(self.engine.percepts(), self.engine.map())
+            .with_regions(self.region_names.clone())
+    }
+
+    /// Place names, in the order decisions index them.
+    pub fn places(&self) -> &[String] {
+        &self.places
+    }
+
+    /// The engine.
+    pub fn engine(&self) -> &Engine {
+        &self.engine
+    }
+
+    /// Whether the tracker is on.
+    pub fn tracking(&self) -> bool {
+        self.tracker.is_some()
+    }
+
+    /// Steps one accepted frame and counts its decision. A record's `region` field conditions the engine on that set (a region known from outside).
+    pub fn step(&mut self, frame: &Frame, meta: &FrameMeta) -> Decision {
+        let known = meta.region.and_then(|r| self.regions.get(r as usize));
+        self.engine.step_within(frame, known);
+        let d = match &mut self.tracker {
+            Some(t) => t.step(
+                self.engine.distribution(),
+                meta.odometry.to_si(),
+                meta.heading,
+            ),
+            None => self.engine.decision(),
+        };
+        self.tally.record(d, meta);
+        d
+    }
+
+    /// Counts a rejected record.
+    pub fn reject(&mut self, why: &Rejection) {
+        self.tally.reject(why);
+    }
+
+    /// The distribution the last decision was drawn from (the tracker's when tracking).
+    pub fn distribution(&self) -> &PlaceDistribution {
+        match &self.tracker {
+            Some(t) => t.distribution(),
+            None => self.engine.distribution(),
+        }
+    }
+
+    /// The summary of everything stepped and rejected so far.
+    pub fn summary(&self) -> Summary {
+        self.tally.finish()
+    }
+}
