@@ -47,7 +47,7 @@ use thiserror::Error;
 use crate::io::carmen::{CarmenMessage, LaserScan, Odom};
 use crate::io::carmen_stream::CarmenFramer;
 use crate::io::record::FrameRecord;
-use crate::percept::sonar_wall::Pose2;
+use crate::core::Pose2;
 
 /// The scan message type.
 pub const LASER_SCAN: &str = "sensor_msgs/msg/LaserScan";
