@@ -149,10 +149,7 @@ fn bad_messages_are_reported_counted_and_skipped() {
         assert_eq!(code, 3, "{name}: {err}");
         assert_eq!(frames.len(), 4, "{name}: the four good scans of five");
         // Topic and log time (1.4 s, the third scan) of the bad message.
-        assert!(
-            err.contains(&format!("/scan at 1400000000 ns: ")),
-            "{name}: {err}"
-        );
+        assert!(err.contains("/scan at 1400000000 ns: "), "{name}: {err}");
         assert!(err.contains(says), "{name}: {err}");
         assert!(err.contains("1 bad message(s) skipped"), "{name}: {err}");
     }

@@ -44,10 +44,10 @@ use byteorder::{BigEndian, LittleEndian};
 use serde::Deserialize;
 use thiserror::Error;
 
+use crate::core::Pose2;
 use crate::io::carmen::{CarmenMessage, LaserScan, Odom};
 use crate::io::carmen_stream::CarmenFramer;
 use crate::io::record::FrameRecord;
-use crate::core::Pose2;
 
 /// The scan message type.
 pub const LASER_SCAN: &str = "sensor_msgs/msg/LaserScan";
@@ -603,22 +603,22 @@ impl<'f, 'm> BagConverter<'f, 'm> {
         while let Some(m) = stream.next() {
             let m = m?;
             let id = m.header.channel_id;
-            if !roles.contains_key(&id) {
-                let Some(ch) = stream.get_channel(id) else {
-                    self.summary.other += 1;
-                    continue;
-                };
-                let role = match ch.topic.as_str() {
-                    t if t == self.topics.scan => Role::Scan,
-                    t if t == self.topics.odom => Role::Odom,
-                    t if Some(t) == self.topics.truth.as_deref() => Role::Truth,
-                    _ => Role::Other,
-                };
-                let schema = schema_name(&ch);
-                roles.insert(id, (role, ch, schema));
-            }
-            let Some((role, ch, schema)) = roles.get(&id) else {
-                continue;
+            let (role, ch, schema) = match roles.entry(id) {
+                std::collections::btree_map::Entry::Occupied(o) => &*o.into_mut(),
+                std::collections::btree_map::Entry::Vacant(v) => {
+                    let Some(ch) = stream.get_channel(id) else {
+                        self.summary.other += 1;
+                        continue;
+                    };
+                    let role = match ch.topic.as_str() {
+                        t if t == self.topics.scan => Role::Scan,
+                        t if t == self.topics.odom => Role::Odom,
+                        t if Some(t) == self.topics.truth.as_deref() => Role::Truth,
+                        _ => Role::Other,
+                    };
+                    let schema = schema_name(&ch);
+                    &*v.insert((role, ch, schema))
+                }
             };
             if *role == Role::Other {
                 self.summary.other += 1;
