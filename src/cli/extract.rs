@@ -21,6 +21,9 @@ pub enum LogFormat {
     Carmen,
     /// UTIAS MRCLAM data set directory (LOG is the directory; needs --robot).
     Mrclam,
+    /// ROS 2 bag, MCAP storage: a `.mcap` file or a bag directory (metadata.yaml); LaserScan +
+    /// Odometry (+ a PoseStamped truth topic) as for CARMEN. The sqlite3 storage is not read.
+    Rosbag2,
 }
 
 /// `lplace extract`.
@@ -41,6 +44,20 @@ pub struct ExtractArgs {
     /// Extractor parameters (RON; see `percept::ExtractConfig`). Default: built-in defaults.
     #[arg(long, value_name = "CONFIG")]
     pub config: Option<PathBuf>,
+    /// rosbag2: the LaserScan topic (default: the bag's one LaserScan topic).
+    #[arg(long, value_name = "TOPIC")]
+    pub scan_topic: Option<String>,
+    /// rosbag2: the Odometry topic (default: the bag's one Odometry topic).
+    #[arg(long, value_name = "TOPIC")]
+    pub odom_topic: Option<String>,
+    /// rosbag2: the ground-truth pose topic, PoseStamped or Odometry (default: the bag's one
+    /// PoseStamped topic, if any).
+    #[arg(long, value_name = "TOPIC")]
+    pub truth_topic: Option<String>,
+    /// rosbag2: forward offset of the scanner from the robot's origin, metres (CARMEN logs
+    /// carry it as PARAM robot_frontlaser_offset).
+    #[arg(long, value_name = "M", default_value_t = 0.0)]
+    pub laser_offset: f64,
 }
 
 /// Runs `extract`: frames to `out`, malformed lines and a summary to stderr.
@@ -52,28 +69,11 @@ pub fn run(args: &ExtractArgs, out: &mut impl Write) -> Result<u8, CliError> {
     if args.from == LogFormat::Mrclam {
         return run_mrclam(args, out);
     }
-    let cfg = match &args.config {
-        None => ExtractConfig::default(),
-        Some(path) => {
-            let src = read_source(path)?;
-            ExtractConfig::from_ron(&src.text).map_err(|e| {
-                eprintln!("{}: {e}", path.display());
-                CliError::Diagnostics { count: 1 }
-            })?
-        }
-    };
-    let map = match &args.map {
-        None => None,
-        Some(path) => {
-            let src = read_source(path)?;
-            let fail = |d: Vec<crate::syntax::diagnostic::Diagnostic>| {
-                render::eprint(&src, &d);
-                CliError::Diagnostics { count: d.len() }
-            };
-            let ast = parse_map(&src.text).map_err(fail)?;
-            Some(Map::from_ast(&ast).map_err(fail)?)
-        }
-    };
+    let cfg = load_config(args)?;
+    let map = load_truth_map(args)?;
+    if args.from == LogFormat::Rosbag2 {
+        return super::extract_rosbag2::run(args, cfg, map.as_ref(), out);
+    }
     let file = std::fs::File::open(&args.log).map_err(|source| CliError::Read {
         path: args.log.display().to_string(),
         source,
@@ -103,6 +103,34 @@ pub fn run(args: &ExtractArgs, out: &mut impl Write) -> Result<u8, CliError> {
     } else {
         EXIT_OK
     })
+}
+
+/// The extractor parameters of `--config`, or the defaults.
+pub(super) fn load_config(args: &ExtractArgs) -> Result<ExtractConfig, CliError> {
+    match &args.config {
+        None => Ok(ExtractConfig::default()),
+        Some(path) => {
+            let src = read_source(path)?;
+            ExtractConfig::from_ron(&src.text).map_err(|e| {
+                eprintln!("{}: {e}", path.display());
+                CliError::Diagnostics { count: 1 }
+            })
+        }
+    }
+}
+
+/// The `--map` whose place extents give the truth places, if given.
+pub(super) fn load_truth_map(args: &ExtractArgs) -> Result<Option<Map>, CliError> {
+    let Some(path) = &args.map else {
+        return Ok(None);
+    };
+    let src = read_source(path)?;
+    let fail = |d: Vec<crate::syntax::diagnostic::Diagnostic>| {
+        render::eprint(&src, &d);
+        CliError::Diagnostics { count: d.len() }
+    };
+    let ast = parse_map(&src.text).map_err(fail)?;
+    Ok(Some(Map::from_ast(&ast).map_err(fail)?))
 }
 
 /// `extract --from mrclam DIR --robot N [--map MAP]`: one robot's files as a percept stream

@@ -20,6 +20,7 @@ mod compare;
 mod eval;
 mod explain;
 mod extract;
+mod extract_rosbag2;
 mod fuse;
 mod grid;
 mod render;

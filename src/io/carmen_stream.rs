@@ -96,11 +96,29 @@ impl<'m> CarmenFramer<'m> {
                 None
             }
             CarmenMessage::Param { .. } => None,
-            CarmenMessage::Laser(scan) => Some(self.frame(scan, laser_offset)),
+            CarmenMessage::Laser(scan) => Some(self.frame(scan, None, laser_offset)),
         }
     }
 
-    fn frame(&mut self, scan: &LaserScan, laser_offset: f64) -> FrameRecord {
+    /// A frame for a scan whose beams do not follow the FLASER convention (a ROS
+    /// `LaserScan`, `io::rosbag2`): beam `i` at bearing `first_bearing + i·bearing_step`,
+    /// radians. Odometry comes from [`CarmenFramer::push`]ed `Odom` messages as for CARMEN.
+    pub fn push_scan(
+        &mut self,
+        scan: &LaserScan,
+        first_bearing: f64,
+        bearing_step: f64,
+        laser_offset: f64,
+    ) -> FrameRecord {
+        self.frame(scan, Some((first_bearing, bearing_step)), laser_offset)
+    }
+
+    fn frame(
+        &mut self,
+        scan: &LaserScan,
+        geometry: Option<(f64, f64)>,
+        laser_offset: f64,
+    ) -> FrameRecord {
         let odometry = self.prev_scan_odom.map(|prev| {
             let now = self.last_odom.unwrap_or(scan.odom_pose);
             relative(&prev, &now)
@@ -113,6 +131,10 @@ impl<'m> CarmenFramer<'m> {
 
         let mut view = scan.view(laser_offset);
         view.pose = self.dead_reckoning;
+        if let Some((first, step)) = geometry {
+            view.first_bearing = first;
+            view.bearing_step = step;
+        }
         let mut percepts: Vec<WireRecord> = self.extractor.step(&view).iter().map(wire).collect();
         for r in layout(&view, &self.extractor.config().layout) {
             percepts.push(WireRecord {

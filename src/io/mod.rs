@@ -13,6 +13,8 @@ pub mod mrclam;
 pub mod mrclam_dir;
 pub mod mrclam_stream;
 pub mod record;
+#[cfg(feature = "rosbag2")]
+pub mod rosbag2;
 pub mod stream;
 pub mod tum;
 pub mod uci;

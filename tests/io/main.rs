@@ -1,10 +1,11 @@
-//! The `io` layer: the stream reader (fast path against the plain one, reading ahead) and the Intel
-//! chain end to end.
+//! The `io` layer: the stream reader (fast path against the plain one, reading ahead), the Intel
+//! chain end to end, and ROS 2 bags against the CARMEN log they were written from.
 
 #[allow(dead_code)]
 #[path = "../support/mod.rs"]
 mod support;
 
+mod extract_rosbag2;
 mod intel_accuracy;
 mod stream_fastpath;
 mod stream_readahead;
