@@ -48,6 +48,7 @@ pub mod map;
 pub mod percept;
 pub mod report;
 pub mod sim;
+pub mod survey;
 pub mod syntax;
 
 #[cfg(feature = "cli")]

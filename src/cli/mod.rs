@@ -24,6 +24,7 @@ mod fuse;
 mod grid;
 mod render;
 mod simulate;
+pub mod survey;
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -97,6 +98,7 @@ pub fn main() -> ExitCode {
         args::Command::Grid(a) => grid::run(&a, &mut out),
         args::Command::Compare(a) => compare::run(&a, &mut out),
         args::Command::Fuse(a) => fuse::run(&a, &mut out),
+        args::Command::Survey(a) => survey::run(&a, &mut out),
     };
     let result = result.and_then(|code| out.flush().map(|_| code).map_err(CliError::Write));
     match result {
