@@ -276,6 +276,73 @@ pub fn decide_all(
         .collect()
 }
 
+/// How a map does on some frames: of those at a place, how many were decided, how many of those
+/// right, how many confidently wrong (necessity ≥ [`crate::report::summary::CONFIDENT`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Score {
+    /// Frames scored whose truth is a place.
+    pub at_place: u64,
+    /// … on which a place was decided.
+    pub decided: u64,
+    /// … the right one.
+    pub right: u64,
+    /// … a wrong one with necessity ≥ 0.9.
+    pub confidently_wrong: u64,
+}
+
+impl Score {
+    /// `decided / at_place`.
+    pub fn decided_rate(&self) -> f64 {
+        self.decided as f64 / self.at_place.max(1) as f64
+    }
+    /// `right / decided`.
+    pub fn right_of_decided(&self) -> f64 {
+        self.right as f64 / self.decided.max(1) as f64
+    }
+    /// `confidently_wrong / at_place`.
+    pub fn confidently_wrong_rate(&self) -> f64 {
+        self.confidently_wrong as f64 / self.at_place.max(1) as f64
+    }
+
+    /// Scores the frames `k` with `keep(k)`: `decisions[k]` against `truth[k]` (a place index).
+    pub fn of(
+        decisions: &[Decision],
+        truth: &[Option<usize>],
+        keep: impl Fn(usize) -> bool,
+    ) -> Score {
+        let mut s = Score::default();
+        for (k, (d, t)) in decisions.iter().zip(truth).enumerate() {
+            let Some(t) = t else { continue };
+            if !keep(k) {
+                continue;
+            }
+            s.at_place += 1;
+            if let Decision::Place { place, necessity } = *d {
+                s.decided += 1;
+                if place == *t {
+                    s.right += 1;
+                } else if necessity >= crate::report::summary::CONFIDENT {
+                    s.confidently_wrong += 1;
+                }
+            }
+        }
+        s
+    }
+}
+
+impl std::fmt::Display for Score {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} scan(s) at a place: decided {:.1} %, right of decided {:.1} %, confidently wrong {:.1} %",
+            self.at_place,
+            100.0 * self.decided_rate(),
+            100.0 * self.right_of_decided(),
+            100.0 * self.confidently_wrong_rate()
+        )
+    }
+}
+
 /// Every `k`-th frame of `frames` (the first, the `k`-th, …), each with the odometry of the
 /// frames it stands for composed into one increment: the same run logged `k` times more
 /// sparsely. `k = 0` is taken as 1.

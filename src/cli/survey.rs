@@ -7,16 +7,14 @@
 
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::engine::tracker::{PlaceTracker, TrackerConfig};
 use crate::engine::{CompileOptions, Engine};
 use crate::io::record::FrameRecord;
-use crate::logic::Decision;
-use crate::report::summary::CONFIDENT;
 use crate::survey::{
-    decide_all, fit, links_from_rules, visits, write_params, Protocol, SurveyConfig,
+    decide_all, fit, links_from_rules, visits, write_params, Protocol, Score, SurveyConfig,
 };
 use crate::syntax::diagnostic::SourceFile;
 use crate::syntax::{parse_map, parse_rules};
@@ -143,7 +141,7 @@ fn fail(src: &SourceFile, d: Vec<crate::syntax::diagnostic::Diagnostic>) -> CliE
 }
 
 /// Every parseable record of the stream; malformed lines are reported and counted.
-fn read_frames(path: &PathBuf) -> Result<(Vec<FrameRecord>, usize), CliError> {
+fn read_frames(path: &Path) -> Result<(Vec<FrameRecord>, usize), CliError> {
     let file = std::fs::File::open(path).map_err(|source| CliError::Read {
         path: path.display().to_string(),
         source,
@@ -170,7 +168,7 @@ fn read_frames(path: &PathBuf) -> Result<(Vec<FrameRecord>, usize), CliError> {
 
 /// `t,place` rows (a header and blank lines are skipped; an empty place is "between places"),
 /// sorted by time.
-fn read_labels(path: &PathBuf) -> Result<Vec<(f64, Option<String>)>, CliError> {
+fn read_labels(path: &Path) -> Result<Vec<(f64, Option<String>)>, CliError> {
     let src = read_source(path)?;
     let mut rows = Vec::new();
     for (n, line) in src.text.lines().enumerate() {
@@ -225,30 +223,6 @@ fn tracker_config(path: Option<&PathBuf>) -> Result<TrackerConfig, CliError> {
     })
 }
 
-/// How a map does on some frames: of those at a place, how many were decided, how many of
-/// those right, how many confidently wrong.
-#[derive(Debug, Clone, Copy, Default)]
-struct Score {
-    at_place: u64,
-    decided: u64,
-    right: u64,
-    confidently_wrong: u64,
-}
-
-impl std::fmt::Display for Score {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let pct = |a: u64, b: u64| 100.0 * a as f64 / (b.max(1)) as f64;
-        write!(
-            f,
-            "{} scan(s) at a place: decided {:.1} %, right of decided {:.1} %, confidently wrong {:.1} %",
-            self.at_place,
-            pct(self.decided, self.at_place),
-            pct(self.right, self.decided),
-            pct(self.confidently_wrong, self.at_place)
-        )
-    }
-}
-
 /// Runs the engine and the tracker over every frame with the written map and scores the
 /// frames of later visits (the tracker sees the whole run, as it would live).
 fn held_out(
@@ -280,23 +254,41 @@ fn held_out(
     let mut tracker = PlaceTracker::new(engine.map(), params, tracker);
     let visit = visits(frames, labels, cfg.visit_gap_m);
     let decisions = decide_all(&mut engine, &mut tracker, frames);
-    let mut score = Score::default();
-    for ((d, label), v) in decisions.iter().zip(labels).zip(&visit) {
-        let (Some(truth), Some(v)) = (label.as_ref().and_then(|l| names.get(l)), v) else {
-            continue;
-        };
-        if *v == 0 {
-            continue;
-        }
-        score.at_place += 1;
-        if let Decision::Place { place, necessity } = *d {
-            score.decided += 1;
-            if place == *truth {
-                score.right += 1;
-            } else if necessity >= CONFIDENT {
-                score.confidently_wrong += 1;
-            }
-        }
-    }
+    let truth: Vec<Option<usize>> = labels
+        .iter()
+        .map(|l| l.as_ref().and_then(|l| names.get(l)).copied())
+        .collect();
+    let score = Score::of(&decisions, &truth, |k| {
+        visit.get(k).copied().flatten().is_some_and(|v| v > 0)
+    });
     Ok(score)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_take_the_label_nearest_in_time_within_half_a_second() {
+        let at = |t: f64| FrameRecord {
+            version: None,
+            t: Some(t),
+            odometry: None,
+            heading: None,
+            percepts: Vec::new(),
+            truth: None,
+        };
+        let frames = [at(0.0), at(1.0), at(2.0), at(2.3)];
+        let rows = [
+            (0.1, Some("A".to_owned())),
+            (1.9, Some("B".to_owned())),
+            (2.35, None),
+        ];
+        let got = label_frames(&frames, &rows);
+        // 1.0 is 0.9 s from both rows: no label; 2.3 is nearest the "between places" row.
+        assert_eq!(
+            got,
+            vec![Some("A".to_owned()), None, Some("B".to_owned()), None]
+        );
+    }
 }
