@@ -67,7 +67,9 @@ fn eval(engine: &mut Engine, bytes: &[u8], track: bool, threads: Threads) -> u64
                 Record::Frame(frame, meta) => {
                     engine.step(frame);
                     let d = match &mut tracker {
-                        Some(t) => t.step(engine.distribution(), meta.odometry, meta.heading),
+                        Some(t) => {
+                            t.step(engine.distribution(), meta.odometry.to_si(), meta.heading)
+                        }
                         None => engine.decision(),
                     };
                     tally.record(d, meta);

@@ -39,6 +39,7 @@
 
 pub mod baseline;
 pub mod coop;
+pub mod core;
 pub mod engine;
 pub mod grid;
 pub mod io;
@@ -47,6 +48,7 @@ pub mod logic;
 pub mod map;
 pub mod percept;
 pub mod report;
+pub mod rules;
 pub mod sim;
 pub mod survey;
 pub mod syntax;

@@ -4,9 +4,9 @@
 //! dilation as an explicit sup-min over the square element — that it must match on random maps
 //! and frames.
 
+use lplace::core::Odometry;
 use lplace::engine::grid_tracker::{GridTrackConfig, GridTracker};
 use lplace::engine::tracker::TrackerConfig;
-use lplace::io::record::Odometry;
 use lplace::logic::{clamp_degree, Decision, DecisionParams, PlaceDistribution};
 use lplace::map::Map;
 use lplace::syntax::parse_map;
@@ -55,9 +55,9 @@ fn evidence(support: &[f64], possibility: &[f64]) -> PlaceDistribution {
 
 fn east(dx: f64) -> Odometry {
     Odometry {
-        dx,
-        dy: 0.0,
-        dtheta: 0.0,
+        forward: dx,
+        left: 0.0,
+        turn: 0.0,
     }
 }
 
@@ -242,7 +242,7 @@ impl Reference {
 
     fn step(&mut self, ev: &PlaceDistribution, o: Odometry, heading: Option<f64>) {
         let fin = |v: f64| if v.is_finite() { v } else { 0.0 };
-        let (dx, dy, dth) = (fin(o.dx), fin(o.dy), fin(o.dtheta).to_radians());
+        let (dx, dy, dth) = (fin(o.forward), fin(o.left), fin(o.turn));
         let now = heading.filter(|h| h.is_finite()).map(f64::to_radians);
         let start = self.heading.or(now.map(|h| h - dth));
         self.heading = now.or(self
@@ -397,7 +397,11 @@ proptest! {
         let mut slow = Reference::new(&fast, n, &cfg);
         for (k, (support, possibility, (dx, dy, dtheta), heading)) in frames.into_iter().enumerate() {
             let ev = evidence(&support, &possibility);
-            let odo = Odometry { dx, dy, dtheta };
+            let odo = Odometry {
+                forward: dx,
+                left: dy,
+                turn: dtheta.to_radians(),
+            };
             fast.step(&ev, odo, heading);
             slow.step(&ev, odo, heading);
             for (i, (&a, &b)) in fast.belief().iter().zip(&slow.g).enumerate() {

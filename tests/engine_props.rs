@@ -7,7 +7,7 @@ use lplace::engine::interpret::Interpreter;
 use lplace::engine::{CompileOptions, Engine, Frame, OFFICE_MAP, OFFICE_RULES};
 use lplace::io::record::{FrameRecord, PerceptRecord};
 use lplace::map::Map;
-use lplace::syntax::check::{check_rules, RuleSet};
+use lplace::rules::{check_rules, RuleSet};
 use lplace::syntax::{parse_map, parse_rules};
 use proptest::prelude::*;
 

@@ -3,9 +3,9 @@
 //! steps, with evidence of the right and the wrong length, odometry that is large, zero or not
 //! finite, headings known, missing or not finite, after the tracker is built.
 
+use lplace::core::Odometry;
 use lplace::engine::tracker::{Tracker, TrackerConfig};
 use lplace::engine::Engine;
-use lplace::io::record::Odometry;
 use lplace::logic::{DecisionParams, PlaceDistribution};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -71,9 +71,9 @@ fn step_allocates_nothing() {
     let mut chosen = 0usize;
     for k in 0..1000 {
         let odometry = Odometry {
-            dx: steps[k % steps.len()],
-            dy: 0.1,
-            dtheta: 0.0,
+            forward: steps[k % steps.len()],
+            left: 0.1,
+            turn: 0.0,
         };
         // Headings on most frames (displacement gates), none or not finite on some.
         let heading = match k % 5 {
@@ -116,9 +116,9 @@ fn grid_step_allocates_nothing() {
     let mut chosen = 0usize;
     for k in 0..500 {
         let odometry = Odometry {
-            dx: [0.3, 0.0, 25.0, f64::NAN][k % 4],
-            dy: 0.05,
-            dtheta: 3.0,
+            forward: [0.3, 0.0, 25.0, f64::NAN][k % 4],
+            left: 0.05,
+            turn: 3.0_f64.to_radians(),
         };
         let heading = (k % 3 != 0).then_some(k as f64);
         if tracker.step(&evidence, odometry, heading).place().is_some() {

@@ -9,8 +9,8 @@
 //! written out per kind (disc–disc, disc–box, box–box), where the tracker treats every extent as
 //! a rounded box: the two must agree on every pair.
 
+use lplace::core::Odometry;
 use lplace::engine::tracker::{Tracker, TrackerConfig, TrackerState};
-use lplace::io::record::Odometry;
 use lplace::logic::{
     clamp_degree, decide, Decision, DecisionParams, Disoriented, Normalisation, PlaceDistribution,
     TNorm, Trapezoid,
@@ -176,13 +176,13 @@ impl Reference {
         let beta: Vec<f64> = (0..n).map(|j| get(&evidence.exclusion, j, 0.0)).collect();
         let b = clamp_degree(self.cfg.bias);
         let t = self.cfg.tnorm;
-        let ds = odo.dx.hypot(odo.dy);
+        let ds = odo.forward.hypot(odo.left);
         let ds = if ds.is_finite() { ds } else { 0.0 };
         for s in &mut self.since {
             *s = (*s + ds).min(1e9);
         }
         // The increment in the map frame, by the heading it started from.
-        let dtheta = odo.dtheta.to_radians();
+        let dtheta = odo.turn;
         let now = heading
             .filter(|h| self.cfg.use_heading && h.is_finite())
             .map(f64::to_radians);
@@ -194,8 +194,8 @@ impl Reference {
                 *d = match (*d, start) {
                     (Some(v), Some(th)) => {
                         let (sn, cs) = th.sin_cos();
-                        let wx = cs * odo.dx - sn * odo.dy;
-                        let wy = sn * odo.dx + cs * odo.dy;
+                        let wx = cs * odo.forward - sn * odo.left;
+                        let wy = sn * odo.forward + cs * odo.left;
                         Some([(v[0] + wx).clamp(-1e9, 1e9), (v[1] + wy).clamp(-1e9, 1e9)])
                     }
                     _ => None,
@@ -436,7 +436,11 @@ proptest! {
                 ev.exclusion = beta;
                 ev.possibility = pi;
             }
-            let odo = Odometry { dx, dy, dtheta };
+            let odo = Odometry {
+                forward: dx,
+                left: dy,
+                turn: dtheta.to_radians(),
+            };
             let got = fast.step(&ev, odo, heading);
             let want = slow.step(&ev, odo, heading);
             prop_assert_eq!(got, want, "frame {}", k);
@@ -473,9 +477,9 @@ fn office_walk_matches_reference() {
         ev.possibility.fill(0.2);
         ev.possibility[at] = 1.0;
         let odo = Odometry {
-            dx: 0.3,
-            dy: 0.05,
-            dtheta: 0.0,
+            forward: 0.3,
+            left: 0.05,
+            turn: 0.0,
         };
         // Headings on the second half: the displacement gates take over.
         let heading = (k >= 100).then_some(30.0);

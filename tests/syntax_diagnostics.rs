@@ -3,8 +3,9 @@
 //! rendered report of each file is snapshotted (miette, unicode without colour, 100 columns).
 
 use lplace::map::Map;
+use lplace::rules::{check_map_against_rules, check_rules};
 use lplace::syntax::diagnostic::{Diagnostic, SourceFile};
-use lplace::syntax::{check_map_against_rules, check_rules, parse_map, parse_rules};
+use lplace::syntax::{parse_map, parse_rules};
 
 fn read(rel: &str) -> SourceFile {
     let path = format!("{}/{rel}", env!("CARGO_MANIFEST_DIR"));

@@ -1,10 +1,11 @@
 //! The bundled example environments parse and check with zero diagnostics.
 
 use lplace::map::Map;
+use lplace::rules::check_rules;
 use lplace::syntax::diagnostic::SourceFile;
-use lplace::syntax::{check_rules, parse_map, parse_rules};
+use lplace::syntax::{parse_map, parse_rules};
 
-fn load(map_path: &str, rules_path: &str) -> (Map, lplace::syntax::RuleSet) {
+fn load(map_path: &str, rules_path: &str) -> (Map, lplace::rules::RuleSet) {
     let root = env!("CARGO_MANIFEST_DIR");
     let map_text =
         std::fs::read_to_string(format!("{root}/{map_path}")).expect("example map is readable");

@@ -3,7 +3,8 @@
 //! must give a "too deeply nested" diagnostic rather than a stack overflow.
 
 use lplace::map::Map;
-use lplace::syntax::{check_rules, parse_map, parse_rules, DiagnosticKind};
+use lplace::rules::check_rules;
+use lplace::syntax::{parse_map, parse_rules, DiagnosticKind};
 use proptest::prelude::*;
 
 const OFFICE_MAP: &str = include_str!("../maps/office.map");

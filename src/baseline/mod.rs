@@ -6,7 +6,7 @@
 //! This module owns the error type shared by the two methods and the input checks every
 //! [`crate::localize::Localizer`] must make (a rejected input leaves the belief unchanged). It
 //! may depend on `grid` (reading, motion and landmark types; the grid stage of R-MCL),
-//! `localize` (the trait) and `sim::rng` (the seeded generator); it never does I/O.
+//! `localize` (the trait) and `core::rng` (the seeded generator); it never does I/O.
 //!
 //! # Complexity
 //!

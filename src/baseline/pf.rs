@@ -48,7 +48,7 @@
 //! Every random draw comes from one [`SplitMix64`] seeded at construction: a seed gives the same
 //! run, bit for bit.
 //!
-//! May depend on `grid` (types), `localize`, `sim::rng`.
+//! May depend on `grid` (types), `localize`, `core::rng`.
 //!
 //! # Complexity
 //!
@@ -83,10 +83,10 @@
 
 use super::Reading;
 use super::{check_bounds, check_motion, check_observation, ron_error, wrap, BaselineError};
+use crate::core::rng::SplitMix64;
 use crate::grid::{LandmarkTable, Motion, Observation};
 use crate::io::mrclam::Pose2;
 use crate::localize::{Localizer, PoseEstimate};
-use crate::sim::rng::SplitMix64;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 

@@ -39,7 +39,7 @@
 //! sampled frame, and after a fallback, frames without readings are the grid's. Our copy of the
 //! paper lacks its flowchart (Fig. 1), so this reading of the text is ours.
 //!
-//! May depend on `grid`, `localize`, `sim::rng`.
+//! May depend on `grid`, `localize`, `core::rng`.
 //!
 //! # Complexity
 //!
@@ -74,11 +74,11 @@
 
 use super::Reading;
 use super::{check_bounds, check_motion, check_observation, ron_error, wrap, BaselineError};
+use crate::core::rng::SplitMix64;
 use crate::grid::run::GridLocalizer;
 use crate::grid::{GridConfig, LandmarkTable, Motion, Observation, Trapezoid};
 use crate::io::mrclam::Pose2;
 use crate::localize::{Localizer, PoseEstimate};
-use crate::sim::rng::SplitMix64;
 use serde::{Deserialize, Serialize};
 
 /// Parameters of Fuzzy R-MCL's cell choice and samples (the grid has its own [`GridConfig`]).

@@ -4,7 +4,7 @@ use super::args::CheckArgs;
 use super::{read_source, render, CliError, EXIT_OK};
 use crate::engine::{compile, CompileOptions, OFFICE_MAP};
 use crate::map::Map;
-use crate::syntax::check::{check_map_against_rules, check_rules};
+use crate::rules::{check_map_against_rules, check_rules};
 use crate::syntax::diagnostic::{Diagnostic, SourceFile};
 use crate::syntax::{parse_map, parse_rules};
 use std::io::Write;

@@ -171,7 +171,11 @@ impl Session<'_> {
     fn step(&mut self, frame: &crate::engine::Frame, meta: &FrameMeta) -> Decision {
         self.engine.step(frame);
         match &mut self.tracker {
-            Some(t) => t.step(self.engine.distribution(), meta.odometry, meta.heading),
+            Some(t) => t.step(
+                self.engine.distribution(),
+                meta.odometry.to_si(),
+                meta.heading,
+            ),
             None => self.engine.decision(),
         }
     }

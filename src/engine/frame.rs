@@ -16,8 +16,8 @@
 //! Both kinds of repair are counted per step in `Engine::sanitised`, so that a caller can report
 //! them; nothing is dropped silently.
 
+use crate::rules::RuleSet;
 use crate::syntax::ast::ArgRole;
-use crate::syntax::check::RuleSet;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 

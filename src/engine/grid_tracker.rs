@@ -55,7 +55,7 @@
 //! ```
 //! use lplace::engine::grid_tracker::{GridTrackConfig, GridTracker};
 //! use lplace::engine::tracker::TrackerConfig;
-//! use lplace::io::record::Odometry;
+//! use lplace::core::Odometry;
 //! use lplace::logic::{DecisionParams, PlaceDistribution};
 //! use lplace::map::Map;
 //! use lplace::syntax::parse_map;
@@ -75,15 +75,15 @@
 //! // Drive 2 m east with evidence that both places share: the belief moved with the robot.
 //! ev.support = vec![0.4, 0.4];
 //! ev.possibility = vec![1.0, 1.0];
-//! let east = Odometry { dx: 1.0, dy: 0.0, dtheta: 0.0 };
+//! let east = Odometry { forward: 1.0, left: 0.0, turn: 0.0 };
 //! t.step(&ev, east, Some(0.0));
 //! assert_eq!(t.step(&ev, east, Some(0.0)).place(), Some(1));
 //! ```
 
 use super::tracker::{carry_heading, undecided, unless_unsupported, TrackerConfig};
+use crate::core::Odometry;
 use crate::grid::cells::raw_max;
 use crate::grid::dilate::{dilate_line, Profile};
-use crate::io::record::Odometry;
 use crate::logic::{
     clamp_degree, decide, Decision, DecisionParams, Disoriented, PlaceDistribution,
 };
@@ -411,8 +411,8 @@ impl GridTracker {
 
     fn predict(&mut self, o: Odometry, heading: Option<f64>) {
         let finite = |v: f64| if v.is_finite() { v } else { 0.0 };
-        let (dx, dy) = (finite(o.dx), finite(o.dy));
-        let dtheta = finite(o.dtheta).to_radians();
+        let (dx, dy) = (finite(o.forward), finite(o.left));
+        let dtheta = finite(o.turn);
         let now = heading.filter(|h| h.is_finite()).map(f64::to_radians);
         let (start, next) = carry_heading(self.heading, now, dtheta);
         self.heading = next;

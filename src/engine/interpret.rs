@@ -11,8 +11,8 @@ use super::compile::{is_map_relation, schema_bindings, GroundAtom, Scope};
 use super::frame::{Frame, PerceptTable};
 use crate::logic::{clamp_degree, LogicConfig};
 use crate::map::Map;
+use crate::rules::RuleSet;
 use crate::syntax::ast::{ArgRole, Formula};
-use crate::syntax::check::RuleSet;
 
 /// Degrees the interpreter derives for one frame.
 #[derive(Debug, Clone, PartialEq)]

@@ -37,7 +37,7 @@ pub use outcome::Outcome;
 
 use crate::logic::{clamp_degree, decide, Decision, DecisionParams, PlaceDistribution};
 use crate::map::Map;
-use crate::syntax::check::{check_map_against_rules, check_rules, RuleSet};
+use crate::rules::{check_map_against_rules, check_rules, RuleSet};
 use crate::syntax::diagnostic::{Diagnostic, SourceFile};
 use crate::syntax::{parse_map, parse_rules};
 use serde::{Deserialize, Serialize};

@@ -45,7 +45,7 @@
 //! serves every pair. An anchor whose displacement is unknown — an increment
 //! arrived with no heading for it — falls back to the path gate above until it is set again.
 //! Between two frames with headings the increment is rotated by the earlier one; a missing
-//! heading is bridged by the odometry's `dtheta` from the last known one.
+//! heading is bridged by the odometry's turn from the last known one.
 //!
 //! When `max c` falls below `conflict`, belief and evidence do not overlap; as paper 000 does
 //! for incompatible fuzzy sets, the tracker then keeps their union, `c_j = max(pred_j, e_j)`, and
@@ -68,7 +68,7 @@
 //! and `map` (path lengths, extents) only.
 
 use super::grid_tracker::{GridTrackConfig, GridTracker};
-use crate::io::record::Odometry;
+use crate::core::Odometry;
 use crate::logic::{
     clamp_degree, decide, Decision, DecisionParams, Disoriented, Normalisation, PlaceDistribution,
     TNorm, Trapezoid,
@@ -266,7 +266,7 @@ impl Default for TrackerConfig {
 pub enum TrackerConfigError {
     /// Not valid RON for [`TrackerConfig`].
     #[error("tracker config: {0}")]
-    Ron(#[from] ron::error::SpannedError),
+    Ron(#[from] crate::core::config::RonError),
     /// A value out of its range.
     #[error("tracker config: `{field}` = {value} is out of range ({range})")]
     Range {
@@ -282,7 +282,7 @@ pub enum TrackerConfigError {
 impl TrackerConfig {
     /// Parses and validates a RON configuration.
     pub fn from_ron(text: &str) -> Result<TrackerConfig, TrackerConfigError> {
-        let c: TrackerConfig = ron::from_str(text)?;
+        let c: TrackerConfig = crate::core::config::from_ron(text)?;
         c.validate()?;
         Ok(c)
     }
@@ -592,7 +592,7 @@ impl Tracker {
         let n = self.n;
         let b = clamp_degree(self.cfg.bias);
         let t = self.cfg.tnorm;
-        let ds = odometry.dx.hypot(odometry.dy);
+        let ds = odometry.distance();
         let ds = if ds.is_finite() { ds } else { 0.0 };
         for s in &mut self.since {
             *s = (*s + ds).min(MAX_DISTANCE);
@@ -733,7 +733,7 @@ impl Tracker {
     /// Adds the increment to every anchor's displacement, rotated by the heading it started
     /// from; without one (or with `use_heading` off) the displacements become unknown.
     fn carry_displacement(&mut self, odometry: Odometry, ds: f64, heading: Option<f64>) {
-        let dtheta = odometry.dtheta.to_radians();
+        let dtheta = odometry.turn;
         let now = heading
             .filter(|h| self.cfg.use_heading && h.is_finite())
             .map(f64::to_radians);
@@ -743,8 +743,8 @@ impl Tracker {
                 Some(th) => {
                     let (sn, cs) = th.sin_cos();
                     let step = [
-                        cs * odometry.dx - sn * odometry.dy,
-                        sn * odometry.dx + cs * odometry.dy,
+                        cs * odometry.forward - sn * odometry.left,
+                        sn * odometry.forward + cs * odometry.left,
                     ];
                     for d in self.disp.iter_mut().flatten() {
                         d[0] = (d[0] + step[0]).clamp(-MAX_DISTANCE, MAX_DISTANCE);

@@ -34,6 +34,17 @@ pub struct Odometry {
     pub dtheta: f64,
 }
 
+impl Odometry {
+    /// The increment in SI units (metres, radians), as the trackers take it.
+    pub fn to_si(self) -> crate::core::Odometry {
+        crate::core::Odometry {
+            forward: self.dx,
+            left: self.dy,
+            turn: self.dtheta.to_radians(),
+        }
+    }
+}
+
 /// One percept of a frame record.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PerceptRecord {

@@ -15,7 +15,7 @@
 //! kept at 50 %, and a reading's noise at level 2σ is exactly twice its noise at σ. Differences
 //! between levels are then the levels' doing, not the sampling's.
 //!
-//! May depend on: `io::mrclam` (frames), `sim::rng` (the seeded generator).
+//! May depend on: `io::mrclam` (frames), `core::rng` (the seeded generator).
 //!
 //! # Complexity
 //!
@@ -40,8 +40,8 @@
 //! assert!(out[0].observations.iter().all(|r| r.range == 2.0 && r.bearing == 0.1));
 //! ```
 
+use crate::core::rng::SplitMix64;
 use crate::io::mrclam::{LandmarkReading, MetricFrame};
-use crate::sim::rng::SplitMix64;
 use serde::{Deserialize, Serialize};
 
 /// Noise levels of the noise sweep: (range σ in metres, bearing σ in degrees).

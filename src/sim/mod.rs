@@ -25,23 +25,22 @@
 //! back unless it is a dead end), `speed` metres per frame with noise, a short random dwell at each
 //! place; odometry reports the motion with multiplicative noise. Frames are 0.1 s apart.
 //!
-//! Everything is drawn from one [`rng::SplitMix64`] seeded with `seed`, and numbers are rounded
+//! Everything is drawn from one [`SplitMix64`] seeded with `seed`, and numbers are rounded
 //! to 3 decimals, so a seed gives byte-identical output. Depends on `map`, `syntax` (rule
 //! bodies), `engine::frame` and `io::record`.
 
-pub mod rng;
-
+use crate::core::angle::wrap_180;
+use crate::core::rng::SplitMix64;
 use crate::engine::{Engine, PerceptTable};
 use crate::io::record::{FrameRecord, Odometry, PerceptRecord, Truth, FORMAT_VERSION};
 use crate::map::Map;
+use crate::rules::RuleSet;
 use crate::syntax::ast::{ArgRole, Formula, Term};
-use crate::syntax::check::RuleSet;
-use rng::SplitMix64;
 use serde::{Deserialize, Serialize};
 
 /// Simulator parameters (all have defaults; see `lplace simulate --help`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct SimConfig {
     /// Frames to emit.
     pub steps: u64,
@@ -575,8 +574,9 @@ impl Simulator {
     }
 }
 
+/// Degrees wrapped into (−180, 180]; a non-finite angle counts as no turn.
 fn wrap180(a: f64) -> f64 {
-    let a = (a + 180.0).rem_euclid(360.0) - 180.0;
+    let a = wrap_180(a);
     if a.is_finite() {
         a
     } else {

@@ -3,7 +3,7 @@
 //! (which build it and are the only code that knows about pest) and the checker and compiler
 //! (which read it). Nothing here is resolved or validated: names are still strings, numbers are
 //! still whatever the author typed. The checker turns it into a map model and a checked rule
-//! set; see `syntax::check`.
+//! set; see `rules`.
 //!
 //! # Rule files in one page
 //!

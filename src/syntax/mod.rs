@@ -1,13 +1,11 @@
 //! The front end for lplace's two languages: spans, the AST, the pest parsers for rule files and
-//! map files, the checker that resolves a rule file against a map, and the diagnostics all of
-//! them report.
+//! map files, and the diagnostics every later stage reports with. Resolving a rule file against
+//! a map is the next layer's job (`rules`).
 //!
-//! This module may depend on `crate::logic` (the checker produces its `LogicConfig` and
-//! `Trapezoid`) and `crate::map` (the checker resolves names against the map model). pest is used
-//! only in here: everything outside sees the AST and [`diagnostic::Diagnostic`]s.
+//! This module depends on nothing else in the crate. pest is used only in here:
+//! everything outside sees the AST and [`diagnostic::Diagnostic`]s.
 
 pub mod ast;
-pub mod check;
 pub mod diagnostic;
 mod grammar;
 pub mod parse_map;
@@ -15,7 +13,6 @@ pub mod parse_rules;
 mod recover;
 pub mod span;
 
-pub use check::{check_map_against_rules, check_rules, RuleSet, Signature};
 pub use diagnostic::{Diagnostic, DiagnosticKind, SourceFile};
 pub use parse_map::parse_map;
 pub use parse_rules::parse_rules;

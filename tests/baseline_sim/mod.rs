@@ -4,9 +4,9 @@
 
 #![allow(dead_code)]
 
+use lplace::core::rng::SplitMix64;
 use lplace::grid::{wrap_pi, Landmark, LandmarkTable};
 use lplace::io::mrclam::{LandmarkReading, MetricFrame, OdometryIncrement, Pose2};
-use lplace::sim::rng::SplitMix64;
 
 /// Range noise σ (m) of the simulated camera.
 pub const RANGE_SIGMA: f64 = 0.05;

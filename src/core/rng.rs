@@ -1,5 +1,5 @@
 //! A small seeded pseudo-random generator (SplitMix64, Steele–Lea–Flood 2014) with the few
-//! draws the simulator needs. Hand-written rather than a dependency because the simulator's
+//! draws the simulator and the sampling baselines need. Hand-written rather than a dependency because the simulator's
 //! output must stay byte-identical for a seed across builds and platforms, which a tiny
 //! generator with integer-only state guarantees. Depends on nothing.
 

@@ -4,8 +4,8 @@
 //! place parameter exists, every degree is in `[0, 1]`, the `logic` block and similarities are
 //! well formed, and every rule can fire. All problems are reported at once.
 //!
-//! Depends on `syntax::ast` (input), `syntax::diagnostic` (errors), `crate::map` (names, walls,
-//! parameters) and `crate::logic` (the `LogicConfig` and `Trapezoid` it produces).
+//! Depends on `syntax` (the AST in, diagnostics out), `map` (names, walls, parameters) and
+//! `logic` (the `LogicConfig` and `Trapezoid` it produces).
 //!
 //! # Decisions
 //!
@@ -20,11 +20,11 @@
 //!   `at_place`/`in_room`) that no firing rule concludes — is an error: it is dead code that
 //!   usually hides a misspelt head.
 
-use super::ast::*;
-use super::diagnostic::{Diagnostic, DiagnosticKind, KeySuffix, NeverFiresReason};
-use super::span::{Span, Spanned};
 use crate::logic::{Implication, LogicConfig, Normalisation, TNorm, Trapezoid};
 use crate::map::Map;
+use crate::syntax::ast::*;
+use crate::syntax::diagnostic::{Diagnostic, DiagnosticKind, KeySuffix, NeverFiresReason};
+use crate::syntax::span::{Span, Spanned};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Names that rule files may not declare as domains.

@@ -1,0 +1,16 @@
+//! The project's vocabulary: the few types and conversions every layer shares — a planar pose,
+//! one odometry increment in SI units, angle wrapping, the seeded random generator, and the one
+//! reader of RON configuration files.
+//!
+//! Everything above uses these and nothing else for the same idea; unit conversions (degrees in
+//! streams, velocities in MRCLAM files, ODOM poses in CARMEN logs) happen at the readers and
+//! writers in `io`, never inside the models. Depends on nothing in the crate.
+
+pub mod angle;
+pub mod config;
+pub mod odometry;
+pub mod pose;
+pub mod rng;
+
+pub use odometry::Odometry;
+pub use pose::Pose2;

@@ -1,0 +1,10 @@
+//! Rule files resolved against a map: the checker turns a parsed rule file and a [`crate::map::Map`]
+//! into a [`RuleSet`] the compiler can trust, or reports every problem at once.
+//!
+//! This layer sits above `syntax` (it reads the AST and reports [`crate::syntax::Diagnostic`]s)
+//! and `map` (it resolves places, walls and parameters), and below `engine`, which compiles a
+//! checked rule set. It may depend on `core`, `logic`, `syntax` and `map`.
+
+mod check;
+
+pub use check::{check_map_against_rules, check_rules, RuleSet, Signature};
