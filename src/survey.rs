@@ -270,7 +270,7 @@ pub fn decide_all(
             rejected.clear();
             rec.fill(engine.percepts(), &mut frame, &mut rejected);
             engine.step(&frame);
-            let odo = rec.odometry.unwrap_or_default();
+            let odo = rec.odometry.unwrap_or_default().to_si();
             tracker.step(engine.distribution(), odo, rec.heading)
         })
         .collect()
@@ -411,12 +411,12 @@ pub fn write_params(text: &str, ast: &MapFile, fits: &[PlaceFit]) -> Result<Stri
                 Feature::Param {
                     name, key, span, ..
                 } if name.node == p.name && key.as_ref().map(|k| &k.node) == p.key.as_ref() => {
-                    Some(span.clone())
+                    Some((span.start, span.end))
                 }
                 _ => None,
             });
             match existing {
-                Some(span) => edits.push((span.start, span.end, param_text(p))),
+                Some((start, end)) => edits.push((start, end, param_text(p))),
                 None => {
                     added.push(' ');
                     added.push_str(&param_text(p));

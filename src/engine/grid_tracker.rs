@@ -393,7 +393,7 @@ impl GridTracker {
     /// for the next frame. The first frame's evidence is taken whole.
     fn evidence_weight(&mut self, o: Odometry) -> f32 {
         let len = self.cfg.evidence_length_m;
-        let ds = o.dx.hypot(o.dy);
+        let ds = o.forward.hypot(o.left);
         let ds = if ds.is_finite() { ds } else { 0.0 };
         let Some(pending) = self.pending_evidence else {
             self.pending_evidence = Some(0.0);

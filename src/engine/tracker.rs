@@ -840,9 +840,9 @@ mod tests {
         t.step(&ev, Odometry::default(), None);
         ev.possibility = vec![1.0, 0.25];
         let go = Odometry {
-            dx: metres,
-            dy: 0.0,
-            dtheta: 0.0,
+            forward: metres,
+            left: 0.0,
+            turn: 0.0,
         };
         for _ in 0..steps {
             t.step(&ev, go, None);
