@@ -3,8 +3,8 @@
 //! per building only the map and the extractor's building axis differ. Two protocols:
 //! **same log** (the committed map, surveyed on the log it is scored on) and **held out**
 //! (each place re-surveyed on its first visit with `lplace survey --fit first-visits`'s library
-//! code, the later visits scored). Prints the table (`cargo test --release --test buildings --
-//! --nocapture` reruns it) and locks each figure a little below what was measured on
+//! code, the later visits scored). Prints the table (`cargo test --release --test io buildings
+//! -- --nocapture` reruns it) and locks each figure a little below what was measured on
 //! 2026-12-02. Skips a building whose log is absent (`$LPLACE_DATA`, else `../shared/data`).
 
 use std::io::BufReader;
