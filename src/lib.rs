@@ -50,6 +50,7 @@ pub mod percept;
 pub mod report;
 pub mod rules;
 pub mod sim;
+pub mod survey;
 pub mod syntax;
 
 #[cfg(feature = "cli")]

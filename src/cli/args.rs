@@ -70,6 +70,14 @@ pub enum Command {
     /// reliability-weighted averages and the fused estimate. Exit 0, 2 for bad flags or files,
     /// 3 when data lines were malformed (each reported on stderr as FILE:LINE) or readings rejected.
     Fuse(super::fuse::FuseArgs),
+    /// Fit each place's expected percept values from a run with ground truth (the frames'
+    /// `truth.place`, or --labels) and write them into the map, changing nothing else.
+    ///
+    /// Prints per place the scans used and the spread of its readings on stderr, and warns on
+    /// places with few scans. With --fit first-visits, fits on each place's first visit and
+    /// prints how the written map does on the later visits. Exit 0, 3 when some stream lines
+    /// were malformed, 2 for bad map, rules or labels, 1 when a file cannot be read or written.
+    Survey(super::survey::SurveyArgs),
 }
 
 /// The map and rules to load.

@@ -98,6 +98,9 @@ pub fn run(args: &ExtractArgs, out: &mut impl Write) -> Result<u8, CliError> {
         "extract: {} frame(s) from {} line(s) ({} FLASER, {} ODOM); {} malformed line(s) skipped",
         summary.frames, st.lines, st.lasers, st.odoms, st.errors
     );
+    // Figures a user can check without ground truth: a log much denser than ~2 frames per
+    // metre, many capped ranges or an unsteady heading lock show here, not only against truth.
+    eprintln!("extract: quality: {}", framer.quality());
     Ok(if st.errors > 0 {
         EXIT_REJECTED
     } else {

@@ -26,6 +26,7 @@ mod grid;
 mod render;
 mod simulate;
 mod stream_input;
+pub mod survey;
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -99,6 +100,7 @@ pub fn main() -> ExitCode {
         args::Command::Grid(a) => grid::run(&a, &mut out),
         args::Command::Compare(a) => compare::run(&a, &mut out),
         args::Command::Fuse(a) => fuse::run(&a, &mut out),
+        args::Command::Survey(a) => survey::run(&a, &mut out),
     };
     let result = result.and_then(|code| out.flush().map(|_| code).map_err(CliError::Write));
     match result {

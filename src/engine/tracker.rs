@@ -7,7 +7,9 @@
 //! The tracker keeps, per place `i`, an **anchor**: a possibility `m_i` that the robot was at
 //! `P_i` when it last had evidence of it, and the odometry distance `s_i` travelled since then.
 //! Each step, with `ds` the length of the odometry increment and `e_j` the frame's normalised
-//! possibility `Π'_j`, `α_j` its support:
+//! possibility `Π'_j` (taken to the power `w ≤ 1` of the distance moved when
+//! `evidence_length_m` is set, so that evidence counts per metre, not per frame), `α_j` its
+//! support:
 //!
 //! ```text
 //! s_i  ← s_i + ds
@@ -222,6 +224,13 @@ pub struct TrackerConfig {
     pub slope_d: f64,
     /// Extra slope per metre travelled since the anchor (default 0.05).
     pub slope_d_rel: f64,
+    /// Metres of travel one frame's evidence stands for, along the graph: the frame takes
+    /// `e_j^w` for `e_j`, `w = min(1, d / evidence_length_m)` with `d` the distance moved since
+    /// evidence was last taken, so that a dense log is not surer than a sparse one (DESIGN §12;
+    /// the grid tracker has its own, [`GridTrackConfig::evidence_length_m`]). Default 0: every
+    /// frame's evidence whole, as the bundled office recording (3–4 frames per metre) was
+    /// tuned with.
+    pub evidence_length_m: f64,
     /// Track on a metric grid over the place extents instead of along the graph
     /// ([`super::grid_tracker`]); then only `bias` and `min_support` of the fields above apply.
     /// Default `None` (the graph).
@@ -246,6 +255,7 @@ impl Default for TrackerConfig {
             tolerance_d_rel: 0.05,
             slope_d: 1.0,
             slope_d_rel: 0.05,
+            evidence_length_m: 0.0,
             grid: None,
         }
     }
@@ -303,6 +313,7 @@ impl TrackerConfig {
             ("tolerance_d_rel", self.tolerance_d_rel),
             ("slope_d", self.slope_d),
             ("slope_d_rel", self.slope_d_rel),
+            ("evidence_length_m", self.evidence_length_m),
         ];
         for (field, value) in lengths {
             if !(value >= 0.0 && value.is_finite()) {
@@ -364,6 +375,10 @@ pub struct Tracker {
     reach: Vec<f64>,
     /// Whether row `i` of `reach` was filled this step (else it is all zeros; see the blur).
     live: Vec<bool>,
+    /// Distance moved whose evidence has not been taken yet, metres; `None` before the first
+    /// frame (see [`TrackerConfig::evidence_length_m`]). Not part of [`TrackerState`]: after a
+    /// restore the first frame's evidence is taken whole.
+    pending_evidence: Option<f64>,
     /// `e_j`, the frame's clamped possibility, read once per step rather than once per pair.
     evid: Vec<f64>,
     /// `min(π'_j, e_j)`: how far the frame agrees with place `j` (the revision's inner term).
@@ -537,6 +552,7 @@ impl Tracker {
             pred: vec![1.0; n],
             reach: vec![0.0; n * n],
             live: vec![true; n],
+            pending_evidence: None,
             evid: vec![0.0; n],
             agree: vec![0.0; n],
             dist: PlaceDistribution::new(n),
@@ -553,6 +569,7 @@ impl Tracker {
         self.disp.fill(Some([0.0; 2]));
         self.heading = None;
         self.pred.fill(1.0);
+        self.pending_evidence = None;
         self.dist = PlaceDistribution::new(self.n);
         self.decision = undecided(self.n);
     }
@@ -583,8 +600,11 @@ impl Tracker {
         self.carry_displacement(odometry, ds, heading);
         let ev =
             |v: &[f64], j: usize, missing: f64| clamp_degree(v.get(j).copied().unwrap_or(missing));
+        let w = self.evidence_weight(ds);
         for (j, e) in self.evid.iter_mut().enumerate() {
-            *e = ev(&evidence.possibility, j, 1.0);
+            let v = ev(&evidence.possibility, j, 1.0);
+            // `powf(1)` is exact: with evidence per frame nothing changes.
+            *e = if w == 1.0 { v } else { v.powf(w) };
         }
 
         // Blur: carry each anchor along the graph. Every `R_ij` is computed (the revision needs
@@ -694,6 +714,22 @@ impl Tracker {
         self.decision
     }
 
+    /// The power this frame's evidence is taken to (see
+    /// [`TrackerConfig::evidence_length_m`]); `ds` is the distance moved since the last frame.
+    fn evidence_weight(&mut self, ds: f64) -> f64 {
+        let len = self.cfg.evidence_length_m;
+        let Some(pending) = self.pending_evidence else {
+            self.pending_evidence = Some(0.0);
+            return 1.0;
+        };
+        if !(len > 0.0 && len.is_finite()) {
+            return 1.0;
+        }
+        let w = ((pending + ds) / len).min(1.0);
+        self.pending_evidence = Some((pending + ds - w * len).clamp(0.0, len));
+        w
+    }
+
     /// Adds the increment to every anchor's displacement, rotated by the heading it started
     /// from; without one (or with `use_heading` off) the displacements become unknown.
     fn carry_displacement(&mut self, odometry: Odometry, ds: f64, heading: Option<f64>) {
@@ -775,5 +811,54 @@ impl Tracker {
             .filter(|h| h.is_finite())
             .map(|h| h.to_radians().rem_euclid(std::f64::consts::TAU));
         true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::syntax::parse_map;
+
+    /// π'_B after a first frame with no information and `steps` frames of `metres` each with
+    /// evidence for A (A 1, B 0.25) and no support (the anchors stay at 1, so each frame's π'
+    /// is its own evidence to the power w), evidence taken per `length` metres.
+    fn pi_b_after(steps: usize, metres: f64, length: f64) -> f64 {
+        let text = "place A corridor at (0, 0) extent radius 1; \
+                    place B corridor at (10, 0) extent radius 1; path A -- B;";
+        let map = Map::from_ast(&parse_map(text).unwrap()).unwrap();
+        let cfg = TrackerConfig {
+            evidence_length_m: length,
+            ..TrackerConfig::default()
+        };
+        let params = DecisionParams {
+            threshold: 0.5,
+            margin: 0.1,
+        };
+        let mut t = Tracker::new(&map, params, cfg);
+        let mut ev = PlaceDistribution::new(2);
+        ev.possibility = vec![1.0, 1.0];
+        t.step(&ev, Odometry::default(), None);
+        ev.possibility = vec![1.0, 0.25];
+        let go = Odometry {
+            forward: metres,
+            left: 0.0,
+            turn: 0.0,
+        };
+        for _ in 0..steps {
+            t.step(&ev, go, None);
+        }
+        t.distribution().possibility[1]
+    }
+
+    #[test]
+    fn evidence_per_metre_tempers_each_frame_by_the_distance() {
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+        // Per frame (the default): 0.25 whatever the distance.
+        assert!(close(pi_b_after(2, 0.25, 0.0), 0.25));
+        // Per 0.5 m: 0.25 m takes 0.25^0.5 = 0.5; 0.5 m or more takes it whole; standing still
+        // takes none.
+        assert!(close(pi_b_after(2, 0.25, 0.5), 0.5));
+        assert!(close(pi_b_after(1, 2.0, 0.5), 0.25));
+        assert!(close(pi_b_after(2, 0.0, 0.5), 1.0));
     }
 }

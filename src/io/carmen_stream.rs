@@ -58,6 +58,65 @@ pub struct CarmenFramer<'m> {
     /// Largest scan time so far.
     last_t: f64,
     frames: u64,
+    /// What the extraction's quality figures are made of.
+    quality: QualityCounts,
+}
+
+/// Running counts behind [`ExtractQuality`].
+#[derive(Debug, Clone, Default)]
+struct QualityCounts {
+    distance: f64,
+    free_ranges: u64,
+    capped: u64,
+    short: u64,
+    locked: u64,
+    /// Per locking frame, the size of the heading correction, degrees.
+    residuals: Vec<f64>,
+}
+
+/// Quality figures of an extraction, from the stream alone (no ground truth): how densely the
+/// log samples the path, how much of the compass view reads nothing, and how steadily the
+/// heading lock follows the odometry from scan to scan.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+pub struct ExtractQuality {
+    /// Frames extracted.
+    pub frames: u64,
+    /// Odometry distance travelled, metres.
+    pub distance_m: f64,
+    /// Frames per metre of travel.
+    pub frames_per_metre: f64,
+    /// Share of `free_range` values at the cap (nothing seen that way).
+    pub capped_share: f64,
+    /// Share of `free_range` values under 0.1 m (points dead-reckoned onto the robot).
+    pub short_share: f64,
+    /// Share of frames whose scan locked the heading (corrected the odometry's prediction).
+    pub locked_share: f64,
+    /// Share of those corrections within 5°: the lock agrees with the odometry from scan to
+    /// scan (a lock that jumps between wall directions makes large ones).
+    pub heading_consistent_share: f64,
+    /// Median and 90th percentile of the corrections' size, degrees.
+    pub heading_residual_median_deg: f64,
+    /// See `heading_residual_median_deg`.
+    pub heading_residual_p90_deg: f64,
+}
+
+impl std::fmt::Display for ExtractQuality {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{:.1} frames/m over {:.1} m; free ranges at the cap {:.1} %, under 0.1 m {:.1} %; \
+             heading locked on {:.1} % of frames, corrections within 5° on {:.1} % of them \
+             (median {:.2}°, 90th percentile {:.2}°)",
+            self.frames_per_metre,
+            self.distance_m,
+            100.0 * self.capped_share,
+            100.0 * self.short_share,
+            100.0 * self.locked_share,
+            100.0 * self.heading_consistent_share,
+            self.heading_residual_median_deg,
+            self.heading_residual_p90_deg
+        )
+    }
 }
 
 impl<'m> CarmenFramer<'m> {
@@ -79,12 +138,67 @@ impl<'m> CarmenFramer<'m> {
             dead_reckoning: Pose2::default(),
             last_t: f64::NEG_INFINITY,
             frames: 0,
+            quality: QualityCounts::default(),
         })
     }
 
     /// Frames produced so far.
     pub fn frames(&self) -> u64 {
         self.frames
+    }
+
+    /// The quality figures of the frames produced so far.
+    pub fn quality(&self) -> ExtractQuality {
+        let q = &self.quality;
+        let share = |a: u64, b: u64| if b > 0 { a as f64 / b as f64 } else { 0.0 };
+        let mut r = q.residuals.clone();
+        r.sort_by(f64::total_cmp);
+        let pick = |p: f64| {
+            let i = ((r.len() as f64 - 1.0) * p).round().max(0.0) as usize;
+            r.get(i).copied().unwrap_or(0.0)
+        };
+        let consistent = r.iter().filter(|&&v| v <= 5.0).count() as u64;
+        ExtractQuality {
+            frames: self.frames,
+            distance_m: q.distance,
+            frames_per_metre: if q.distance > 0.0 {
+                self.frames as f64 / q.distance
+            } else {
+                0.0
+            },
+            capped_share: share(q.capped, q.free_ranges),
+            short_share: share(q.short, q.free_ranges),
+            locked_share: share(q.locked, self.frames),
+            heading_consistent_share: share(consistent, r.len() as u64),
+            heading_residual_median_deg: pick(0.5),
+            heading_residual_p90_deg: pick(0.9),
+        }
+    }
+
+    /// Counts one frame's contribution to [`Self::quality`].
+    fn count_quality(&mut self, odometry: Option<&Pose2>, free: &[f64]) {
+        let q = &mut self.quality;
+        if let Some(d) = odometry {
+            let ds = d.x.hypot(d.y);
+            if ds.is_finite() {
+                q.distance += ds;
+            }
+        }
+        let Some(compass) = self.compass.as_ref() else {
+            return;
+        };
+        let cap = compass.config().cap_m.ln();
+        for &v in free {
+            q.free_ranges += 1;
+            q.capped += u64::from(v >= cap - 1e-9);
+            q.short += u64::from(v < 0.1f64.ln());
+        }
+        if let Some(c) = compass.correction().map(f64::to_degrees) {
+            q.locked += 1;
+            if c.is_finite() {
+                q.residuals.push(c.abs());
+            }
+        }
     }
 
     /// Takes the next message; returns a frame for each `FLASER`. `laser_offset` is
@@ -144,8 +258,14 @@ impl<'m> CarmenFramer<'m> {
                 degree: r.degree,
             });
         }
+        let mut free = [0.0f64; 8];
+        let mut n_free = 0;
         if let Some(compass) = self.compass.as_mut() {
             for r in compass.step(&view, odometry.as_ref(), scan.odom_pose.theta) {
+                if let (Some(v), Some(slot)) = (r.value, free.get_mut(n_free)) {
+                    *slot = v;
+                    n_free += 1;
+                }
                 percepts.push(WireRecord {
                     name: "free_range".to_owned(),
                     args: vec![r.direction.to_owned()],
@@ -160,6 +280,7 @@ impl<'m> CarmenFramer<'m> {
             .as_ref()
             .and_then(CompassTracker::pose)
             .map(|p| wrap_180(p.theta.to_degrees()));
+        self.count_quality(odometry.as_ref(), &free[..n_free]);
         let truth = self.places.map(|places| {
             let p = scan.pose;
             Truth {

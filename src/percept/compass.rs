@@ -11,8 +11,9 @@
 //! This stays locked as long as the odometry's heading error *between two scans* is below 45°;
 //! a scan whose candidate is farther from the prediction than a gate (clutter, a diagonal
 //! wall) is ignored, so one bad scan cannot flip the heading by a quarter-turn. The gate is
-//! `max_correction_deg`, widened by `gate_growth_deg` for every scan since the last accepted
-//! correction (odometry drifts meanwhile), and never wider than 40°; a weak scan (share of
+//! `max_correction_deg`, widened by `gate_growth_deg_per_m` for every metre travelled and by
+//! `gate_growth_per_deg` for every degree turned since the last accepted correction (odometry
+//! drifts with motion, not with the number of scans), and never wider than 40°; a weak scan (share of
 //! the vote between `weak_peak_fraction` and `min_peak_fraction`) may only correct by up to
 //! `max_correction_deg`.
 //! Odometry heading also drifts *systematically* (unequal wheel diameters turn every straight
@@ -26,7 +27,10 @@
 //! the odometry frame the map is drawn in; see `initial_heading_deg` to state it instead).
 //!
 //! # Orientation of a scan
-//! Every pair of scan points `stride` beams apart, both valid and at most `max_gap_m` apart,
+//! Every pair of scan points `segment_deg` apart (the nearest whole number of beams, at least
+//! one: 1 beam at 1° resolution, 2 at 0.5°, 4 at 0.25°, so that range quantisation tilts the
+//! segments of a fine scanner no more than those of a coarse one), both valid and at most
+//! `max_gap_m` apart,
 //! is a short wall segment; its direction, folded modulo 90°, votes with its length into a
 //! histogram of 1° bins (smoothed over ±`smooth_deg`). The peak, refined by the circular mean
 //! of the votes within `smooth_deg` of it, is the scan's orientation; it counts only when at
@@ -34,8 +38,12 @@
 //!
 //! # Free ranges
 //! Positions are dead-reckoned from the odometry translations rotated by the tracked heading;
-//! the points of the last `history_scans` scans are kept in that frame, so the view covers
-//! 360° (the scanner itself sees only 180°). For each compass direction `d` (East = +x,
+//! the points of the scans of the last `history_m` metres of travel are kept in that frame, so
+//! the view covers 360° (the scanner itself sees only 180°). Memory is counted in metres, not
+//! scans, so that a log at 11 scans per metre sees as far back as one at 2: a scan stays in the
+//! view only if the robot moved `keyframe_m` or turned `keyframe_deg` since the last scan that
+//! stayed (the current scan is always in it), at most `history_scans` of them, and only every
+//! beam `beam_deg` apart is kept, so the density of points does not depend on the scanner. For each compass direction `d` (East = +x,
 //! North = +y of the map frame; the four cardinal ones, or with `directions: 8` the diagonals
 //! too), the free range along a ray is the `rank`-th nearest distance along it of the kept
 //! points lying within `band_m` of the ray from the robot, capped at `cap_m` (no point on the
@@ -64,8 +72,10 @@ pub struct CompassConfig {
     /// odometry heading. Only its quarter-turn matters: the first scan refines it. Default
     /// `None`.
     pub initial_heading_deg: Option<f64>,
-    /// Beams between the two ends of a wall segment. Default 1.
-    pub stride: usize,
+    /// Angle between the two beams that end a wall segment, degrees: the segment joins beams
+    /// `round(segment_deg / resolution)` apart (at least one), so a 0.5° scanner's segments are
+    /// as long as a 1° scanner's. Default 1.
+    pub segment_deg: f64,
     /// Longest wall segment, metres (longer ones jump between surfaces). Default 0.2.
     pub max_gap_m: f64,
     /// Half-width of the histogram smoothing and of the peak window, degrees. Default 3.
@@ -79,17 +89,34 @@ pub struct CompassConfig {
     /// Largest heading correction a scan may make, degrees: a scan whose orientation is
     /// farther from the odometry's prediction is taken as cluttered and ignored. Default 15.
     pub max_correction_deg: f64,
-    /// How much the gate widens per scan without a correction, degrees (odometry drift).
-    /// Default 5; the gate never exceeds 40°.
-    pub gate_growth_deg: f64,
+    /// How much the gate widens per metre travelled without a correction, degrees (odometry
+    /// heading drifts with the distance, not with the number of scans). Default 10; the gate
+    /// never exceeds 40°.
+    pub gate_growth_deg_per_m: f64,
+    /// How much the gate widens per degree turned without a correction (odometry heading
+    /// drifts when the robot turns on the spot too). Default 0.1.
+    pub gate_growth_per_deg: f64,
     /// Gain of the odometry heading-drift estimate (see the module docs), in [0, 1]; 0 turns
     /// the estimate off. Default 0.
     pub drift_gain: f64,
     /// Least distance travelled since the previous accepted correction, metres, for a
     /// correction to update the drift estimate. Default 0.5.
     pub drift_min_distance_m: f64,
-    /// Scans whose points make up the local view. Default 8.
+    /// Metres of travel whose scans make up the local view (the current scan is always in
+    /// it). Default 10 (chosen on the Intel log: 6, 8, 10 and 12 m were tried, see
+    /// `docs/intel.md`).
+    pub history_m: f64,
+    /// Most scans kept in the local view, whatever the distance (bounds the cost). Default 64.
     pub history_scans: usize,
+    /// A scan enters the local view for good when the robot has moved this far since the last
+    /// scan that did, metres (so 2 or 11 scans per metre keep alike views). Default 0.2.
+    pub keyframe_m: f64,
+    /// … or turned this much, degrees. Default 10.
+    pub keyframe_deg: f64,
+    /// Angular spacing of the beams kept in the local view, degrees: finer scans are thinned
+    /// to it, so the density of points (and the `rank`-th nearest) does not depend on the
+    /// scanner. Default 1.
+    pub beam_deg: f64,
     /// Directions with a free range: 4 (East, North, West, South) or 8 (and NorthEast,
     /// NorthWest, SouthWest, SouthEast). Default 4.
     pub directions: usize,
@@ -116,16 +143,21 @@ impl Default for CompassConfig {
             enabled: false,
             axis_deg: 0.0,
             initial_heading_deg: None,
-            stride: 1,
+            segment_deg: 1.0,
             max_gap_m: 0.2,
             smooth_deg: 3.0,
             min_peak_fraction: 0.4,
             weak_peak_fraction: 0.15,
             max_correction_deg: 15.0,
-            gate_growth_deg: 5.0,
+            gate_growth_deg_per_m: 10.0,
+            gate_growth_per_deg: 0.1,
             drift_gain: 0.0,
             drift_min_distance_m: 0.5,
-            history_scans: 8,
+            history_m: 10.0,
+            history_scans: 64,
+            keyframe_m: 0.2,
+            keyframe_deg: 10.0,
+            beam_deg: 1.0,
             directions: 4,
             fan_deg: 0.0,
             fan_step_deg: 5.0,
@@ -149,7 +181,6 @@ impl CompassConfig {
             finite("compass.initial_heading_deg", h)?;
         }
         for (field, v) in [
-            ("compass.stride", self.stride),
             ("compass.history_scans", self.history_scans),
             ("compass.rank", self.rank),
         ] {
@@ -162,7 +193,13 @@ impl CompassConfig {
         non_negative("compass.min_peak_fraction", self.min_peak_fraction)?;
         non_negative("compass.weak_peak_fraction", self.weak_peak_fraction)?;
         positive("compass.max_correction_deg", self.max_correction_deg)?;
-        non_negative("compass.gate_growth_deg", self.gate_growth_deg)?;
+        non_negative("compass.gate_growth_deg_per_m", self.gate_growth_deg_per_m)?;
+        non_negative("compass.gate_growth_per_deg", self.gate_growth_per_deg)?;
+        positive("compass.segment_deg", self.segment_deg)?;
+        non_negative("compass.history_m", self.history_m)?;
+        non_negative("compass.keyframe_m", self.keyframe_m)?;
+        non_negative("compass.keyframe_deg", self.keyframe_deg)?;
+        positive("compass.beam_deg", self.beam_deg)?;
         if !(0.0..=1.0).contains(&self.drift_gain) {
             return Err(ConfigError::invalid(
                 "compass.drift_gain",
@@ -227,7 +264,18 @@ pub struct CompassRecord {
 pub fn orientation(scan: &ScanView<'_>, cfg: &CompassConfig) -> Option<(f64, f64)> {
     let mut local = Vec::with_capacity(scan.ranges.len());
     local_points(scan, cfg, &mut Vec::new(), &mut local);
-    orientation_of(&local, cfg)
+    orientation_of(&local, cfg, beams_apart(cfg.segment_deg, scan.bearing_step))
+}
+
+/// How many beams of a scan with `step` radians between beams make up `angle_deg` degrees, at
+/// least one (also for a step that is zero or not finite).
+pub fn beams_apart(angle_deg: f64, step: f64) -> usize {
+    let n = (angle_deg.to_radians() / step.abs()).round();
+    if n.is_finite() && n >= 1.0 {
+        n.min(1e6) as usize
+    } else {
+        1
+    }
 }
 
 /// The scan's beams as points in the robot frame (`None` where a beam has no valid return),
@@ -264,12 +312,16 @@ fn local_points(
 }
 
 /// [`orientation`] from the scan's points in the robot frame.
-fn orientation_of(points: &[Option<(f64, f64)>], cfg: &CompassConfig) -> Option<(f64, f64)> {
+fn orientation_of(
+    points: &[Option<(f64, f64)>],
+    cfg: &CompassConfig,
+    stride: usize,
+) -> Option<(f64, f64)> {
     let mut hist = [0.0f64; 90];
     let mut total = 0.0;
     let n = points.len();
-    for i in 0..n.saturating_sub(cfg.stride) {
-        let (Some(a), Some(b)) = (points[i], points[i + cfg.stride]) else {
+    for i in 0..n.saturating_sub(stride) {
+        let (Some(a), Some(b)) = (points[i], points[i + stride]) else {
             continue;
         };
         let (dx, dy) = (b.0 - a.0, b.1 - a.1);
@@ -318,15 +370,24 @@ pub struct CompassTracker {
     cfg: CompassConfig,
     /// Tracked pose: dead-reckoned position, axis-locked heading.
     pose: Option<Pose2>,
-    /// Points of recent scans in the tracked frame, one vector per scan (ring).
-    history: Vec<Vec<(f64, f64)>>,
-    next: usize,
-    /// Scans since the last accepted correction.
-    unlocked: u32,
+    /// Points of recent scans in the tracked frame, oldest first; the last one is the current
+    /// scan, kept for good only if it is a keyframe (see [`Slot`]).
+    history: std::collections::VecDeque<Slot>,
+    /// Buffers of slots that left the view, reused.
+    spare: Vec<Vec<(f64, f64)>>,
+    /// Distance travelled since the first scan, metres (the odometer).
+    odometer: f64,
+    /// Odometry turn since the first scan, radians (absolute values summed).
+    turn: f64,
+    /// Degrees turned since the last accepted correction.
+    turned: f64,
     /// Estimated odometry heading drift, radians per metre travelled.
     drift: f64,
-    /// Distance travelled since the last accepted strong correction, metres.
+    /// Distance travelled since the last accepted correction, metres.
     travelled: f64,
+    /// The correction the last step's scan made to the predicted heading, radians, if it
+    /// locked it.
+    correction: Option<f64>,
     /// The rays of every direction's fan (see [`Rays`]).
     rays: Rays,
     /// Each beam's `(cos, sin, bearing)` for the scans' geometry (see [`local_points`]).
@@ -349,11 +410,14 @@ impl CompassTracker {
         Ok(CompassTracker {
             cfg,
             pose: None,
-            history: Vec::new(),
-            next: 0,
-            unlocked: 0,
+            history: std::collections::VecDeque::new(),
+            spare: Vec::new(),
+            odometer: 0.0,
+            turn: 0.0,
+            turned: 0.0,
             drift: 0.0,
             travelled: 0.0,
+            correction: None,
             rays: Rays::new(&cfg),
             dirs: Vec::new(),
             local: Vec::new(),
@@ -371,6 +435,24 @@ impl CompassTracker {
         self.pose
     }
 
+    /// The parameters.
+    pub fn config(&self) -> &CompassConfig {
+        &self.cfg
+    }
+
+    /// The correction (radians) the last scan made to the heading predicted by the odometry
+    /// and the learnt drift, if it locked the heading (its wall orientation was accepted; the
+    /// first scan's initialisation is not a correction). Small corrections scan after scan
+    /// mean a steady lock.
+    pub fn correction(&self) -> Option<f64> {
+        self.correction
+    }
+
+    /// Scans in the local view after the last step (the current one included).
+    pub fn view_scans(&self) -> usize {
+        self.history.len()
+    }
+
     /// Takes one scan: `increment` is the raw odometry since the previous scan (robot frame of
     /// the previous scan), `odom_heading` the odometry's own heading at this scan (used only to
     /// initialise, see the module docs). Returns the free-range percepts in [`DIRECTIONS`]
@@ -381,60 +463,16 @@ impl CompassTracker {
         increment: Option<&Pose2>,
         odom_heading: f64,
     ) -> &[CompassRecord] {
-        let predicted = match (self.pose, increment) {
-            (Some(p), Some(d)) => {
-                let (s, c) = p.theta.sin_cos();
-                let dist = d.x.hypot(d.y);
-                let dist = if dist.is_finite() { dist } else { 0.0 };
-                self.travelled += dist;
-                Pose2 {
-                    x: p.x + c * d.x - s * d.y,
-                    y: p.y + s * d.x + c * d.y,
-                    theta: p.theta + d.theta + self.drift * dist,
-                }
-            }
-            (Some(p), None) => p,
-            (None, _) => Pose2 {
-                x: 0.0,
-                y: 0.0,
-                theta: self
-                    .cfg
-                    .initial_heading_deg
-                    .map_or(odom_heading, f64::to_radians),
-            },
-        };
+        let predicted = self.predict(increment, odom_heading);
         let first = self.pose.is_none();
-        let mut pose = predicted;
-        let gate = (self.cfg.max_correction_deg
-            + self.cfg.gate_growth_deg * f64::from(self.unlocked))
-        .min(40.0);
-        self.unlocked = self.unlocked.saturating_add(1);
         local_points(scan, &self.cfg, &mut self.dirs, &mut self.local);
-        if let Some((alpha, share)) = orientation_of(&self.local, &self.cfg) {
-            let gate = if share >= self.cfg.min_peak_fraction {
-                Some(gate)
-            } else if share >= self.cfg.weak_peak_fraction {
-                Some(self.cfg.max_correction_deg)
-            } else {
-                None
-            };
-            if let Some(gate) = gate {
-                let target = self.cfg.axis_deg.to_radians() - alpha;
-                let q = std::f64::consts::FRAC_PI_2;
-                let corr = (target - predicted.theta + q / 2.0).rem_euclid(q) - q / 2.0;
-                if first || corr.abs() <= gate.to_radians() {
-                    pose.theta = predicted.theta + corr;
-                    self.unlocked = 0;
-                    if share >= self.cfg.min_peak_fraction {
-                        self.learn_drift(corr, first);
-                    }
-                    self.travelled = 0.0;
-                }
-            }
-        }
+        let stride = beams_apart(self.cfg.segment_deg, scan.bearing_step);
+        let mut pose = predicted;
+        pose.theta = predicted.theta + self.lock(predicted.theta, first, stride);
         pose.theta = wrap_pi(pose.theta);
         self.pose = Some(pose);
-        self.remember(scan, &pose);
+        let keep = beams_apart(self.cfg.beam_deg, scan.bearing_step);
+        self.remember(&pose, keep);
         let n = self.cfg.directions.min(DIRECTIONS.len());
         self.free_ranges(&pose);
         for (k, &(name, _)) in DIRECTIONS.iter().enumerate().take(n) {
@@ -452,6 +490,75 @@ impl CompassTracker {
         &self.out[..n]
     }
 
+    /// The pose predicted from the previous one by the odometry `increment` (and the learnt
+    /// drift), or the initial pose; counts the distance and the turn.
+    fn predict(&mut self, increment: Option<&Pose2>, odom_heading: f64) -> Pose2 {
+        match (self.pose, increment) {
+            (Some(p), Some(d)) => {
+                let (s, c) = p.theta.sin_cos();
+                let dist = d.x.hypot(d.y);
+                let dist = if dist.is_finite() { dist } else { 0.0 };
+                let turn = if d.theta.is_finite() {
+                    d.theta.abs()
+                } else {
+                    0.0
+                };
+                self.travelled += dist;
+                self.odometer += dist;
+                self.turned += turn.to_degrees();
+                self.turn += turn;
+                Pose2 {
+                    x: p.x + c * d.x - s * d.y,
+                    y: p.y + s * d.x + c * d.y,
+                    theta: p.theta + d.theta + self.drift * dist,
+                }
+            }
+            (Some(p), None) => p,
+            (None, _) => Pose2 {
+                x: 0.0,
+                y: 0.0,
+                theta: self
+                    .cfg
+                    .initial_heading_deg
+                    .map_or(odom_heading, f64::to_radians),
+            },
+        }
+    }
+
+    /// The heading correction (radians) the current scan (`local`) makes to the prediction
+    /// `theta`, 0 when its orientation is missing, weak or outside the gate. The gate widens
+    /// with the distance travelled and the angle turned since the last accepted correction.
+    fn lock(&mut self, theta: f64, first: bool, stride: usize) -> f64 {
+        let gate = (self.cfg.max_correction_deg
+            + self.cfg.gate_growth_deg_per_m * self.travelled
+            + self.cfg.gate_growth_per_deg * self.turned)
+            .min(40.0);
+        self.correction = None;
+        let Some((alpha, share)) = orientation_of(&self.local, &self.cfg, stride) else {
+            return 0.0;
+        };
+        let gate = if share >= self.cfg.min_peak_fraction {
+            gate
+        } else if share >= self.cfg.weak_peak_fraction {
+            self.cfg.max_correction_deg
+        } else {
+            return 0.0;
+        };
+        let target = self.cfg.axis_deg.to_radians() - alpha;
+        let q = std::f64::consts::FRAC_PI_2;
+        let corr = (target - theta + q / 2.0).rem_euclid(q) - q / 2.0;
+        if !(first || corr.abs() <= gate.to_radians()) {
+            return 0.0;
+        }
+        if share >= self.cfg.min_peak_fraction {
+            self.learn_drift(corr, first);
+        }
+        self.travelled = 0.0;
+        self.turned = 0.0;
+        self.correction = (!first).then_some(corr);
+        corr
+    }
+
     /// A strong correction `corr` (radians) after `travelled` metres is the residual drift
     /// of the odometry heading over that distance; fold it into the estimate.
     fn learn_drift(&mut self, corr: f64, first: bool) {
@@ -463,22 +570,48 @@ impl CompassTracker {
         }
     }
 
-    /// Keeps this scan's points (`local`, robot frame) in the map frame at `pose`.
-    fn remember(&mut self, scan: &ScanView<'_>, pose: &Pose2) {
-        let cap = self.cfg.history_scans;
-        if self.history.len() < cap {
-            self.history.push(Vec::with_capacity(scan.ranges.len()));
-            self.next = self.history.len() - 1;
-        } else {
-            self.next = (self.next + 1) % cap;
-        }
-        let Some(buf) = self.history.get_mut(self.next) else {
-            return;
+    /// Puts this scan's points (`local`, robot frame; every `keep`-th beam) into the view in
+    /// the map frame at `pose`. The view's last slot is the current scan: it replaces the
+    /// previous step's unless that one was a keyframe. Then slots farther back than
+    /// `history_m` of travel, or beyond `history_scans`, leave the view (never the current one).
+    fn remember(&mut self, pose: &Pose2, keep: usize) {
+        let reuse = self.history.back().is_some_and(|s| !s.key);
+        let mut slot = match reuse.then(|| self.history.pop_back()).flatten() {
+            Some(slot) => slot,
+            None => Slot {
+                points: self.spare.pop().unwrap_or_default(),
+                odometer: 0.0,
+                turn: 0.0,
+                key: false,
+            },
         };
-        buf.clear();
+        slot.points.clear();
+        slot.odometer = self.odometer;
+        slot.turn = self.turn;
+        slot.key = match self.history.back() {
+            None => true,
+            Some(last) => {
+                self.odometer - last.odometer >= self.cfg.keyframe_m
+                    || (self.turn - last.turn).to_degrees() >= self.cfg.keyframe_deg
+            }
+        };
         let (s, c) = pose.theta.sin_cos();
-        for &(lx, ly) in self.local.iter().flatten() {
-            buf.push((pose.x + c * lx - s * ly, pose.y + s * lx + c * ly));
+        for &(lx, ly) in self.local.iter().step_by(keep.max(1)).flatten() {
+            slot.points
+                .push((pose.x + c * lx - s * ly, pose.y + s * lx + c * ly));
+        }
+        self.history.push_back(slot);
+        while self.history.len() > 1 {
+            let Some(old) = self.history.front() else {
+                break;
+            };
+            let too_far = self.odometer - old.odometer > self.cfg.history_m;
+            if !(too_far || self.history.len() > self.cfg.history_scans) {
+                break;
+            }
+            if let Some(old) = self.history.pop_front() {
+                self.spare.push(old.points);
+            }
         }
     }
 
@@ -504,7 +637,7 @@ impl CompassTracker {
             nearest,
             ..
         } = self;
-        for p in history.iter().flatten() {
+        for p in history.iter().flat_map(|s| &s.points) {
             let (vx, vy) = (p.0 - pose.x, p.1 - pose.y);
             let r2 = vx * vx + vy * vy;
             if r2.is_nan() || r2 <= 0.0 || r2 > far2 {
@@ -550,6 +683,18 @@ impl CompassTracker {
             _ => self.cfg.cap_m,
         }
     }
+}
+
+/// One scan's points in the local view.
+#[derive(Debug, Clone, Default)]
+struct Slot {
+    /// The points, map frame.
+    points: Vec<(f64, f64)>,
+    /// The odometer (metres) and the summed turn (radians) when the scan was taken.
+    odometer: f64,
+    turn: f64,
+    /// Whether the scan stays in the view when the next one comes (a keyframe).
+    key: bool,
 }
 
 /// The rays of every direction's fan: per direction `d` of [`DIRECTIONS`], rays at `d`,
@@ -790,7 +935,7 @@ mod tests {
         let mut along: Vec<f64> = t
             .history
             .iter()
-            .flatten()
+            .flat_map(|s| &s.points)
             .filter_map(|p| {
                 let (vx, vy) = (p.0 - pose.x, p.1 - pose.y);
                 let a = vx * ux + vy * uy;
@@ -828,7 +973,10 @@ mod tests {
             let mut t = CompassTracker::new(cfg).unwrap();
             // Points scattered around, some right next to the robot (inside the band).
             let near = near.iter().map(|(x, y)| (px + x, py + y));
-            t.history = vec![points.iter().copied().chain(near).collect()];
+            t.history = std::collections::VecDeque::from([Slot {
+                points: points.iter().copied().chain(near).collect(),
+                ..Slot::default()
+            }]);
             let pose = Pose2 { x: px, y: py, theta: 0.0 };
             t.free_ranges(&pose);
             for ray in 0..t.rays.len() {
@@ -836,6 +984,120 @@ mod tests {
                 let want = brute_free_range(&t, &pose, ux, uy);
                 proptest::prop_assert_eq!(t.ray_range(ray), want, "ray {} at {}", ray, t.rays.angle[ray]);
             }
+        }
+    }
+
+    /// Range from `(px, py)` along bearing `b` (map frame) to the walls of the box
+    /// `[x0, x1] × [y0, y1]` around it, rounded to the centimetre as CARMEN logs are.
+    fn box_range(px: f64, py: f64, b: f64, [x0, y0, x1, y1]: [f64; 4]) -> f64 {
+        let (s, c) = b.sin_cos();
+        let tx = if c > 1e-12 {
+            (x1 - px) / c
+        } else if c < -1e-12 {
+            (x0 - px) / c
+        } else {
+            f64::INFINITY
+        };
+        let ty = if s > 1e-12 {
+            (y1 - py) / s
+        } else if s < -1e-12 {
+            (y0 - py) / s
+        } else {
+            f64::INFINITY
+        };
+        (tx.min(ty) * 100.0).round() / 100.0
+    }
+
+    /// A scan of `beams` beams over `fov` radians (centred on the heading) in a box, from the
+    /// pose `(px, py, yaw)`.
+    fn box_scan(px: f64, py: f64, yaw: f64, fov: f64, beams: usize, walls: [f64; 4]) -> Vec<f64> {
+        let step = fov / beams as f64;
+        (0..beams)
+            .map(|i| box_range(px, py, yaw - fov / 2.0 + i as f64 * step, walls))
+            .collect()
+    }
+
+    #[test]
+    fn orientation_holds_at_every_resolution_and_field_of_view() {
+        let cfg = CompassConfig::default();
+        let walls = [-3.0, -2.0, 5.0, 4.0];
+        for fov_deg in [180.0f64, 360.0] {
+            for res in [0.25f64, 0.5, 1.0] {
+                let beams = (fov_deg / res) as usize;
+                for yaw_deg in [0.0f64, 17.0, 44.0, 63.0] {
+                    let yaw = yaw_deg.to_radians();
+                    let r = box_scan(0.3, 0.2, yaw, fov_deg.to_radians(), beams, walls);
+                    let v = ScanView {
+                        pose: Pose2::default(),
+                        ranges: &r,
+                        first_bearing: -fov_deg.to_radians() / 2.0,
+                        bearing_step: res.to_radians(),
+                        laser_offset_x: 0.0,
+                    };
+                    let (a, _) = orientation(&v, &cfg).unwrap();
+                    let expect = (-yaw_deg).rem_euclid(90.0);
+                    let err = (a.to_degrees() - expect + 45.0).rem_euclid(90.0) - 45.0;
+                    assert!(
+                        err.abs() < 1.0,
+                        "{fov_deg}° at {res}°, yaw {yaw_deg}: {err}"
+                    );
+                }
+            }
+        }
+        assert_eq!(beams_apart(1.0, 0.5f64.to_radians()), 2);
+        assert_eq!(beams_apart(1.0, 0.25f64.to_radians()), 4);
+        assert_eq!(beams_apart(1.0, f64::NAN), 1);
+        assert_eq!(beams_apart(1.0, 0.0), 1);
+    }
+
+    /// The free range West of a robot that looked at a corridor's west end wall (turning on
+    /// the spot from West to East at x = 0), then drove `metres` East at `per_metre` scans per
+    /// metre with exact odometry.
+    fn west_range_after(metres: f64, per_metre: usize) -> f64 {
+        let cfg = CompassConfig {
+            enabled: true,
+            initial_heading_deg: Some(180.0),
+            ..CompassConfig::default()
+        };
+        let walls = [-1.0, -1.0, 40.0, 1.0];
+        let mut t = CompassTracker::new(cfg).unwrap();
+        let mut yaw = 180f64;
+        let mut first = true;
+        let turn = Pose2 {
+            x: 0.0,
+            y: 0.0,
+            theta: (-30f64).to_radians(),
+        };
+        while yaw >= 0.0 {
+            let r = box_scan(0.0, 0.0, yaw.to_radians(), PI, 180, walls);
+            t.step(&view(&r), (!first).then_some(&turn), 0.0);
+            first = false;
+            yaw -= 30.0;
+        }
+        let step = 1.0 / per_metre as f64;
+        let inc = Pose2 {
+            x: step,
+            y: 0.0,
+            theta: 0.0,
+        };
+        let n = (metres * per_metre as f64).round() as usize;
+        let mut west = 0.0;
+        for k in 1..=n {
+            let r = box_scan(k as f64 * step, 0.0, 0.0, PI, 180, walls);
+            west = t.step(&view(&r), Some(&inc), 0.0)[2].value.unwrap().exp();
+        }
+        west
+    }
+
+    #[test]
+    fn memory_is_metres_of_travel_whatever_the_scan_rate() {
+        for per_metre in [2, 11] {
+            // 5 m on, the west wall is still in the view (history_m = 10): 6 m away.
+            let near = west_range_after(5.0, per_metre);
+            assert!((near - 6.0).abs() < 0.1, "{per_metre}/m: {near}");
+            // 12 m on, it has left the view: nothing West but the cap.
+            let far = west_range_after(12.0, per_metre);
+            assert!((far - 15.0).abs() < 1e-9, "{per_metre}/m: {far}");
         }
     }
 

@@ -21,7 +21,8 @@
 //! * `corridor_width` — value: left + right side distance, metres; degree 1
 //!   when both sides have a return below `max_range_m`, else no support.
 //! * `side_openings` — value: how many sides (0, 1 or 2) show an opening:
-//!   at least `opening_min_beams` consecutive beams with bearing within
+//!   consecutive beams spanning at least `opening_min_deg` (6 beams at 1° resolution, 12 at
+//!   0.5°: the opening's angular width, whatever the scanner) with bearing within
 //!   `opening_cone_deg` of ±90° whose range exceeds that side's distance by
 //!   `opening_depth_m` (a doorway or a side corridor). Degree 1 whenever the
 //!   scan has any valid beam. Swapping left and right leaves it unchanged.
@@ -45,8 +46,9 @@ pub struct LayoutConfig {
     /// How much farther than the side distance a beam must reach to look through an
     /// opening, metres. Default 1.5.
     pub opening_depth_m: f64,
-    /// Fewest consecutive such beams that make an opening. Default 6.
-    pub opening_min_beams: usize,
+    /// Least angle spanned by consecutive such beams that makes an opening, degrees (the
+    /// number of beams is this over the scan's resolution, at least one). Default 6.
+    pub opening_min_deg: f64,
     /// Ranges below this are self-hits, metres. Default 0.05.
     pub min_range_m: f64,
     /// Ranges at or above this are "no return", metres. Default 40.
@@ -59,7 +61,7 @@ impl Default for LayoutConfig {
             side_cone_deg: 40.0,
             opening_cone_deg: 50.0,
             opening_depth_m: 1.5,
-            opening_min_beams: 6,
+            opening_min_deg: 6.0,
             min_range_m: 0.05,
             max_range_m: 40.0,
         }
@@ -75,13 +77,7 @@ impl LayoutConfig {
         positive("layout.side_cone_deg", self.side_cone_deg)?;
         positive("layout.opening_cone_deg", self.opening_cone_deg)?;
         non_negative("layout.opening_depth_m", self.opening_depth_m)?;
-        if self.opening_min_beams == 0 {
-            return Err(ConfigError::invalid(
-                "layout.opening_min_beams",
-                0.0,
-                "must be ≥ 1",
-            ));
-        }
+        positive("layout.opening_min_deg", self.opening_min_deg)?;
         non_negative("layout.min_range_m", self.min_range_m)?;
         positive("layout.max_range_m", self.max_range_m)
     }
@@ -197,7 +193,8 @@ fn side(scan: &ScanView<'_>, cfg: &LayoutConfig, sign: f64) -> SideLook {
     }
     SideLook {
         distance,
-        opening: best >= cfg.opening_min_beams,
+        opening: best
+            >= crate::percept::compass::beams_apart(cfg.opening_min_deg, scan.bearing_step),
         valid: any,
     }
 }
@@ -264,6 +261,31 @@ mod tests {
         }
         let out = layout(&view(&r), &LayoutConfig::default());
         assert_eq!(out[1].value, Some(2.0));
+    }
+
+    #[test]
+    fn an_opening_is_an_angle_whatever_the_resolution() {
+        // A 1 m wide corridor seen at 0.5° (360 beams): a gap of 5.5° on the left (11 beams)
+        // is narrower than the 6° an opening needs, one of 6.5° (13 beams) is an opening; at
+        // 1° the 11 beams would have been one.
+        let fine = |gap: std::ops::Range<usize>| {
+            let mut r: Vec<f64> = (0..360)
+                .map(|i| {
+                    let s = (-FRAC_PI_2 + i as f64 * PI / 360.0).sin().abs();
+                    (1.0 / s.max(1e-9)).min(81.0)
+                })
+                .collect();
+            for x in &mut r[gap] {
+                *x = 5.0;
+            }
+            let v = ScanView {
+                bearing_step: PI / 360.0,
+                ..view(&[])
+            };
+            layout(&ScanView { ranges: &r, ..v }, &LayoutConfig::default())[1].value
+        };
+        assert_eq!(fine(330..341), Some(0.0));
+        assert_eq!(fine(330..343), Some(1.0));
     }
 
     #[test]

@@ -377,6 +377,17 @@ impl TruthSummary {
             t.confidently_wrong,
             100.0 * t.confidently_wrong_rate
         )?;
+        // The figures a place recogniser is judged by, so that nobody works them out by hand.
+        let decided = t.correct + t.wrong;
+        let pct = |a: u64, b: u64| 100.0 * a as f64 / b.max(1) as f64;
+        writeln!(
+            out,
+            "of {} at a place: decided {:.1}%  right of decided {:.1}%  confidently wrong {:.1}%",
+            t.at_place,
+            pct(decided, t.at_place),
+            pct(t.correct, decided),
+            pct(t.confidently_wrong, t.at_place)
+        )?;
         writeln!(
             out,
             "between places {}: a place decided in {}",

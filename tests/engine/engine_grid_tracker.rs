@@ -34,6 +34,8 @@ fn config(flank_per_metre: f64) -> TrackerConfig {
             flank: 0.0,
             flank_per_metre,
             floor: 0.001,
+            evidence_length_m: 0.0,
+            evidence_max_weight: 1.0,
         }),
         ..TrackerConfig::default()
     }
@@ -86,6 +88,37 @@ fn the_belief_moves_with_the_robot() {
     assert_eq!(d.place(), Some(1));
     assert!(close(t.distribution().possibility[0], 0.001));
     assert!(close(t.distribution().necessity[1], 0.999));
+}
+
+/// π_B after a first frame with no information and then `steps` frames of `metres` each,
+/// with no heading (blurred, not moved: by less than a cell's reach here) and evidence for A
+/// (A × 1, B × 0.25), evidence taken per `length` metres (0: per frame).
+fn pi_b_after(steps: usize, metres: f64, length: f64) -> f64 {
+    let mut cfg = config(0.0);
+    if let Some(g) = cfg.grid.as_mut() {
+        g.evidence_length_m = length;
+    }
+    let mut t = GridTracker::new(&row_of_two(), PARAMS, &cfg);
+    t.step(&evidence(&[0.4, 0.4], &[1.0, 1.0]), east(0.0), None);
+    for _ in 0..steps {
+        t.step(&evidence(&[0.8, 0.0], &[1.0, 0.25]), east(metres), None);
+    }
+    t.distribution().possibility[1]
+}
+
+#[test]
+fn evidence_is_taken_per_metre_not_per_frame() {
+    // Per 0.5 m: two frames 0.25 m apart take B's 0.25 at w = 0.5 each, 0.25^0.5 · 0.25^0.5 =
+    // 0.25, as one frame 0.5 m on does (w = 1); four frames 0.125 m apart, 0.25 too.
+    assert!(close(pi_b_after(1, 0.5, 0.5), 0.25));
+    assert!(close(pi_b_after(2, 0.25, 0.5), 0.25));
+    assert!(close(pi_b_after(4, 0.125, 0.5), 0.25));
+    // Per frame, the denser log is the surer one: 0.25² and 0.25⁴.
+    assert!(close(pi_b_after(2, 0.25, 0.0), 0.0625));
+    assert!(close(pi_b_after(4, 0.125, 0.0), 0.25f64.powi(4)));
+    // Standing still takes no evidence; 2 m in one frame is still one look (w capped at 1).
+    assert!(close(pi_b_after(3, 0.0, 0.5), 1.0));
+    assert!(close(pi_b_after(1, 2.0, 0.5), 0.25));
 }
 
 #[test]
@@ -357,7 +390,7 @@ proptest! {
         let n = m.places().len();
         let cfg = TrackerConfig {
             bias,
-            grid: Some(GridTrackConfig { cell_size: 0.5, margin: 0.5, flank, flank_per_metre, floor }),
+            grid: Some(GridTrackConfig { cell_size: 0.5, margin: 0.5, flank, flank_per_metre, floor, evidence_length_m: 0.0, evidence_max_weight: 8.0 }),
             ..TrackerConfig::default()
         };
         let mut fast = GridTracker::new(&m, PARAMS, &cfg);

@@ -356,6 +356,7 @@ fn config() -> impl Strategy<Value = TrackerConfig> {
                     tolerance_d_rel,
                     slope_d,
                     slope_d_rel,
+                    evidence_length_m: 0.0,
                     grid: None,
                 }
             },

@@ -5,6 +5,8 @@
 #[path = "../support/mod.rs"]
 mod support;
 
+mod buildings;
+mod evidence_per_metre;
 mod extract_rosbag2;
 mod intel_accuracy;
 mod stream_fastpath;
