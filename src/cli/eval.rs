@@ -10,6 +10,7 @@
 use super::args::{ArgError, EvalArgs, Format, StreamForm, SummaryFormat};
 use super::{load_engine, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::engine::tracker::TrackerConfig;
+use crate::engine::outcome::QueryOutcome;
 use crate::engine::{CompileOptions, Engine};
 use crate::io::record::FrameRecord;
 use crate::io::stream::{read_records, FrameMeta, Record, StreamFormat, StreamReader, Threads};
@@ -17,7 +18,7 @@ use crate::logic::{Decision, PlaceDistribution, PlaceSet};
 use crate::report::summary::reason_name;
 use crate::report::trajectory::{self, TrajectoryPoint, Verdict};
 use crate::report::{RunPlot, StreamRun};
-use std::io::{BufRead, BufReader, IsTerminal, Write};
+use std::io::{BufRead, IsTerminal, Write};
 
 /// The bundled office recording (made by `lplace simulate`, see docs/streams.md).
 pub const OFFICE_RECORDING: &str = include_str!("../../recordings/office.jsonl");
