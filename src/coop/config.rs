@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 /// All parameters of the object grids, the fusion, the estimate and the MRCLAM protocol.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct CoopConfig {
     /// Range model of a robot's reading of the object: the trapezoid put around `ρ` (paper 000's
     /// `⟨r, Δ, α, 1, b⟩`, widths growing with the reading). Default: the same as the grid's
@@ -117,5 +117,23 @@ impl CoopConfig {
     /// possibility that neither part of it is an outlier.
     pub fn observation_reliability(&self) -> f32 {
         1.0 - self.range.bias.max(self.bearing.bias)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_unknown_keys_and_defaults_omitted_ones() {
+        let ok = CoopConfig::from_ron("(min_observers: 3)").unwrap();
+        assert_eq!(ok.min_observers, 3);
+        assert_eq!(ok.window, CoopConfig::default().window);
+        match CoopConfig::from_ron("(min_observers: 3, totally_bogus_field: 1)") {
+            Err(CoopError::Ron { message, .. }) => {
+                assert!(message.contains("totally_bogus_field"), "{message}");
+            }
+            other => panic!("{other:?}"),
+        }
     }
 }

@@ -7,7 +7,8 @@
 //! and against plain and reliability-weighted averages, as paper 002's tables do.
 //!
 //! May depend on: [`crate::grid`] (self grids, trapezoids, sensor models), [`crate::localize`]
-//! (the one per-frame driver), [`crate::io::mrclam`] (frames, truth). It does no I/O.
+//! (the one per-frame driver, frames, truth tracks). It does no I/O: the caller reads the
+//! dataset and hands [`experiment::run`] borrowed [`experiment::RobotTrack`]s.
 
 pub mod config;
 pub mod experiment;
