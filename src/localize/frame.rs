@@ -86,8 +86,8 @@ mod tests {
 
     #[test]
     fn truth_is_interpolated_the_short_way() {
-        // Samples 1 s apart; heading from 3.0 to −3.0 rad crosses ±π: the short way is
-        // 2π − 6 ≈ 0.283 rad, so half way is 3.0 + 0.1416 = π + 0.0016 − 2π after wrapping.
+        // Samples 1 s apart; heading from 3.0 to −2.9 rad crosses ±π: the short way is
+        // 2π − 5.9 ≈ 0.383 rad, so half way is 3.0 + 0.192 = 3.192, which wraps to 3.192 − 2π.
         let track = [
             TruthRow {
                 t: 0.0,
@@ -99,7 +99,7 @@ mod tests {
                 t: 1.0,
                 x: 2.0,
                 y: -4.0,
-                theta: -3.0,
+                theta: -2.9,
             },
             TruthRow {
                 t: 5.0,
@@ -110,8 +110,9 @@ mod tests {
         ];
         let p = interpolate_truth(&track, 0.5, 1.0).unwrap();
         assert_eq!((p.x, p.y), (1.0, -2.0));
-        let half = 3.0 + 0.5 * (std::f64::consts::TAU - 6.0);
-        assert!((p.theta - (half - std::f64::consts::TAU)).abs() < 1e-12);
+        let tau = std::f64::consts::TAU;
+        let half = 3.0 + 0.5 * (tau - 5.9);
+        assert!((p.theta - (half - tau)).abs() < 1e-12, "{}", p.theta);
         // Outside the track, and across the 4 s gap with max_gap 1: none.
         assert_eq!(interpolate_truth(&track, -0.1, 1.0), None);
         assert_eq!(interpolate_truth(&track, 5.1, 1.0), None);
