@@ -108,31 +108,38 @@ impl FuzzyGrid {
     }
 
     /// The configuration in use.
+    #[inline]
     pub fn config(&self) -> &GridConfig {
         &self.cfg
     }
     /// Number of columns (x direction).
+    #[inline]
     pub fn nx(&self) -> usize {
         self.nx
     }
     /// Number of rows (y direction).
+    #[inline]
     pub fn ny(&self) -> usize {
         self.ny
     }
     /// Cell side in metres.
+    #[inline]
     pub fn cell_size(&self) -> f32 {
         self.cell
     }
     /// Lower-left corner `(x_min, y_min)` of the grid.
+    #[inline]
     pub fn origin(&self) -> (f32, f32) {
         (self.x0, self.y0)
     }
     /// The possibility plane, row-major (`row · nx + col`, row 0 at `y_min`).
+    #[inline]
     pub fn possibilities(&self) -> &[f32] {
         &self.h
     }
     /// Mutable possibility plane, for callers that build priors. Values written
     /// outside [0, 1] (or NaN) are clamped (NaN → 0) by the next operation.
+    #[inline]
     pub fn possibilities_mut(&mut self) -> &mut [f32] {
         &mut self.h
     }
@@ -160,6 +167,7 @@ impl FuzzyGrid {
         }
     }
     /// Possibility of cell `(col, row)` (0 outside the grid).
+    #[inline]
     pub fn possibility(&self, col: usize, row: usize) -> f32 {
         if col < self.nx && row < self.ny {
             self.h[row * self.nx + col]
@@ -168,6 +176,7 @@ impl FuzzyGrid {
         }
     }
     /// Heading set of cell `(col, row)`, with the cell's possibility as height.
+    #[inline]
     pub fn heading_set(&self, col: usize, row: usize) -> Option<Trapezoid> {
         if col < self.nx && row < self.ny {
             let i = row * self.nx + col;
@@ -183,6 +192,7 @@ impl FuzzyGrid {
         }
     }
     /// Replaces the heading set of a cell (height ignored: it is the plane).
+    #[inline]
     pub fn set_heading_set(&mut self, col: usize, row: usize, t: Trapezoid) {
         if col < self.nx && row < self.ny {
             let i = row * self.nx + col;
