@@ -9,9 +9,9 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use lplace::core::Pose2;
 use lplace::percept::line_fit::fit_line;
 use lplace::percept::scan::ScanView;
-use lplace::percept::sonar_wall::Pose2;
 use lplace::percept::{ExtractConfig, ScanExtractor};
 use nalgebra::Point2;
 

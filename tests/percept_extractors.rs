@@ -3,13 +3,14 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
+use lplace::core::Pose2;
 use lplace::percept::beacon::{beacon_from_image, helix_row, BeaconConfig, BeaconError};
 use lplace::percept::image::BinaryImage;
 use lplace::percept::laser_line::{
     eq3_from_points, from_image, from_scan, LaserLineConfig, LaserScratch, PivotRule,
 };
 use lplace::percept::scan::ScanView;
-use lplace::percept::sonar_wall::{Pose2, SensorMount, SonarWall, SonarWallConfig};
+use lplace::percept::sonar_wall::{SensorMount, SonarWall, SonarWallConfig};
 use lplace::percept::{ExtractConfig, PerceptKind, ScanExtractor, Side};
 use nalgebra::Point2;
 

@@ -5,11 +5,12 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
+use lplace::core::Pose2;
 use lplace::percept::beacon::{beacon_from_image, BeaconConfig};
 use lplace::percept::image::BinaryImage;
 use lplace::percept::laser_line::{from_scan, LaserLineConfig, LaserScratch};
 use lplace::percept::scan::ScanView;
-use lplace::percept::sonar_wall::{Pose2, SensorMount, SonarWall, SonarWallConfig};
+use lplace::percept::sonar_wall::{SensorMount, SonarWall, SonarWallConfig};
 use lplace::percept::{fit_line, ExtractConfig, LineFitError, PerceptRecord, ScanExtractor, Side};
 use nalgebra::{Point2, Rotation2, Vector2};
 use proptest::prelude::*;

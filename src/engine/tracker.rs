@@ -256,7 +256,7 @@ impl Default for TrackerConfig {
 pub enum TrackerConfigError {
     /// Not valid RON for [`TrackerConfig`].
     #[error("tracker config: {0}")]
-    Ron(#[from] ron::error::SpannedError),
+    Ron(#[from] crate::core::config::RonError),
     /// A value out of its range.
     #[error("tracker config: `{field}` = {value} is out of range ({range})")]
     Range {
@@ -272,7 +272,7 @@ pub enum TrackerConfigError {
 impl TrackerConfig {
     /// Parses and validates a RON configuration.
     pub fn from_ron(text: &str) -> Result<TrackerConfig, TrackerConfigError> {
-        let c: TrackerConfig = ron::from_str(text)?;
+        let c: TrackerConfig = crate::core::config::from_ron(text)?;
         c.validate()?;
         Ok(c)
     }

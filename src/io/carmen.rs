@@ -26,8 +26,8 @@ use std::io::BufRead;
 
 use thiserror::Error;
 
+use crate::core::Pose2;
 use crate::percept::scan::ScanView;
-use crate::percept::sonar_wall::Pose2;
 
 /// Why a line of a CARMEN log was rejected.
 #[derive(Debug, Error)]

@@ -30,6 +30,8 @@
 
 use std::io::BufRead;
 
+use crate::core::angle::{wrap_180, wrap_pi};
+use crate::core::Pose2;
 use crate::io::carmen::{CarmenError, CarmenMessage, CarmenReader, CarmenStats, LaserScan};
 use crate::io::record::{
     FrameRecord, Odometry, PerceptRecord as WireRecord, Truth, FORMAT_VERSION,
@@ -37,7 +39,6 @@ use crate::io::record::{
 use crate::map::Place;
 use crate::percept::compass::CompassTracker;
 use crate::percept::layout::layout;
-use crate::percept::sonar_wall::Pose2;
 use crate::percept::{ConfigError, ExtractConfig, PerceptArg, PerceptRecord, ScanExtractor, Side};
 
 /// Turns CARMEN messages into frame records, one per scan. Feed it every message in log order
@@ -136,7 +137,7 @@ impl<'m> CarmenFramer<'m> {
             .compass
             .as_ref()
             .and_then(CompassTracker::pose)
-            .map(|p| wrap_deg(p.theta.to_degrees()));
+            .map(|p| wrap_180(p.theta.to_degrees()));
         let truth = self.places.map(|places| {
             let p = scan.pose;
             Truth {
@@ -144,7 +145,7 @@ impl<'m> CarmenFramer<'m> {
                     .iter()
                     .find(|pl| pl.contains(p.x, p.y))
                     .map(|pl| pl.name.clone()),
-                pose: Some([p.x, p.y, wrap_deg(p.theta.to_degrees())]),
+                pose: Some([p.x, p.y, wrap_180(p.theta.to_degrees())]),
             }
         });
         self.frames += 1;
@@ -158,7 +159,7 @@ impl<'m> CarmenFramer<'m> {
             odometry: odometry.map(|p| Odometry {
                 dx: p.x,
                 dy: p.y,
-                dtheta: wrap_deg(p.theta.to_degrees()),
+                dtheta: wrap_180(p.theta.to_degrees()),
             }),
             heading,
             percepts,
@@ -192,7 +193,7 @@ pub fn relative(a: &Pose2, b: &Pose2) -> Pose2 {
     Pose2 {
         x: c * dx + s * dy,
         y: -s * dx + c * dy,
-        theta: wrap_rad(b.theta - a.theta),
+        theta: wrap_pi(b.theta - a.theta),
     }
 }
 
@@ -202,27 +203,7 @@ pub fn compose(a: &Pose2, d: &Pose2) -> Pose2 {
     Pose2 {
         x: a.x + c * d.x - s * d.y,
         y: a.y + s * d.x + c * d.y,
-        theta: wrap_rad(a.theta + d.theta),
-    }
-}
-
-fn wrap_rad(a: f64) -> f64 {
-    let pi = std::f64::consts::PI;
-    let w = (a + pi).rem_euclid(2.0 * pi) - pi;
-    if w == -pi {
-        pi
-    } else {
-        w
-    }
-}
-
-/// Degrees wrapped into `(−180, 180]`.
-fn wrap_deg(a: f64) -> f64 {
-    let w = (a + 180.0).rem_euclid(360.0) - 180.0;
-    if w == -180.0 {
-        180.0
-    } else {
-        w
+        theta: wrap_pi(a.theta + d.theta),
     }
 }
 
@@ -303,7 +284,7 @@ mod tests {
         };
         let d = relative(&a, &b);
         assert!((d.x - 1.0).abs() < 1e-12 && d.y.abs() < 1e-12 && d.theta.abs() < 1e-12);
-        assert_eq!(wrap_deg(540.0), 180.0);
-        assert_eq!(wrap_deg(-190.0), 170.0);
+        assert_eq!(wrap_180(540.0), 180.0);
+        assert_eq!(wrap_180(-190.0), 170.0);
     }
 }

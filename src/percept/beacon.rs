@@ -57,7 +57,7 @@ use super::{PerceptArg, PerceptKind, PerceptRecord};
 
 /// Parameters of the beacon image matcher. RON-loadable; defaults documented per field.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct BeaconConfig {
     /// Physical vertical distance between the two cuts, metres. Default 0.20.
     pub cut_separation_m: f64,
@@ -349,7 +349,7 @@ pub fn beacon_from_image(
 /// Parameters turning a landmark sighting's reliability into a degree.
 /// RON-loadable; defaults documented per field.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct LandmarkConfig {
     /// Up to this range the reported reliability is taken as is, metres. Default 3.
     pub full_trust_range_m: f64,

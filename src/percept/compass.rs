@@ -49,11 +49,12 @@ use serde::{Deserialize, Serialize};
 
 use super::config::{finite, non_negative, positive, ConfigError};
 use super::scan::ScanView;
-use super::sonar_wall::Pose2;
+use crate::core::angle::wrap_pi;
+use crate::core::Pose2;
 
 /// Parameters of the compass percepts. RON-loadable; every field has a default.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct CompassConfig {
     /// Emit the compass percepts at all. Default false.
     pub enabled: bool,
@@ -431,7 +432,7 @@ impl CompassTracker {
                 }
             }
         }
-        pose.theta = wrap(pose.theta);
+        pose.theta = wrap_pi(pose.theta);
         self.pose = Some(pose);
         self.remember(scan, &pose);
         let n = self.cfg.directions.min(DIRECTIONS.len());
@@ -584,7 +585,7 @@ impl Rays {
             for j in -per_side..=per_side {
                 let a = (deg + f64::from(j) * step).to_radians();
                 let (uy, ux) = a.sin_cos();
-                rays.push((wrap(a), (ux, uy), k));
+                rays.push((wrap_pi(a), (ux, uy), k));
             }
         }
         rays.sort_by(|x, y| x.0.total_cmp(&y.0));
@@ -672,11 +673,6 @@ fn insert_sorted(best: &mut [f64], v: f64) {
         best.swap(i - 1, i);
         i -= 1;
     }
-}
-
-fn wrap(a: f64) -> f64 {
-    let pi = std::f64::consts::PI;
-    (a + pi).rem_euclid(2.0 * pi) - pi
 }
 
 #[cfg(test)]

@@ -26,7 +26,7 @@ use super::sonar_wall::SonarWallConfig;
 pub enum ConfigError {
     /// The RON text does not parse or does not match the structure.
     #[error("extractor config: {0}")]
-    Ron(#[from] ron::error::SpannedError),
+    Ron(#[from] crate::core::config::RonError),
     /// A field is out of its admissible range.
     #[error("extractor config: {field} = {value}: {reason}")]
     Invalid {
@@ -51,7 +51,7 @@ impl ConfigError {
 
 /// All extractor parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct ExtractConfig {
     /// Eq. (3) on the front laser / structured light.
     pub laser_line: LaserLineConfig,
@@ -75,7 +75,7 @@ impl ExtractConfig {
     /// # Errors
     /// [`ConfigError`] on a syntax error or an out-of-range value.
     pub fn from_ron(text: &str) -> Result<Self, ConfigError> {
-        let cfg: ExtractConfig = ron::from_str(text)?;
+        let cfg: ExtractConfig = crate::core::config::from_ron(text)?;
         cfg.validate()?;
         Ok(cfg)
     }

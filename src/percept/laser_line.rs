@@ -62,7 +62,7 @@ pub enum PivotRule {
 
 /// Parameters of the laser-line extractor. RON-loadable; every field has a default.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct LaserLineConfig {
     /// Half-width of the front sector of a scan, degrees. Default 45.
     pub sector_half_width_deg: f64,

@@ -36,7 +36,7 @@ use super::scan::ScanView;
 
 /// Parameters of the layout percepts. RON-loadable; every field has a default.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct LayoutConfig {
     /// Width of the sector next to ±90° searched for the side distance, degrees. Default 40.
     pub side_cone_deg: f64,
@@ -107,7 +107,7 @@ pub struct LayoutRecord {
 /// ```
 /// use lplace::percept::layout::{layout, LayoutConfig};
 /// use lplace::percept::scan::ScanView;
-/// use lplace::percept::sonar_wall::Pose2;
+/// use lplace::core::Pose2;
 /// use std::f64::consts::{FRAC_PI_2, PI};
 /// // A 2 m wide corridor, robot in the middle facing along it.
 /// let ranges: Vec<f64> = (0..180)
@@ -205,7 +205,7 @@ fn side(scan: &ScanView<'_>, cfg: &LayoutConfig, sign: f64) -> SideLook {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::percept::sonar_wall::Pose2;
+    use crate::core::Pose2;
     use std::f64::consts::{FRAC_PI_2, PI};
 
     fn view(ranges: &[f64]) -> ScanView<'_> {

@@ -3,8 +3,9 @@
 //! following paper 003 §4, eqs. (1)–(4).
 //!
 //! Responsibility: pure numeric extractors plus the small amount of state the
-//! sonar-wall percept needs (a ring buffer of recent readings). This module
-//! may depend on `nalgebra`, `serde`, `ron` and `thiserror` only; it knows
+//! sonar-wall percept needs (a ring buffer of recent readings). Within the crate
+//! this module may depend on `core` only (poses, angles, the configuration
+//! reader), outside it on `nalgebra`, `serde` and `thiserror`; it knows
 //! nothing about rules, maps or the engine — the engine maps
 //! [`PerceptRecord`]s into its own percept frame.
 //!

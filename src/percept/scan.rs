@@ -14,12 +14,13 @@ use serde::{Deserialize, Serialize};
 
 use super::config::{ConfigError, ExtractConfig};
 use super::laser_line::{from_scan, LaserScratch};
-use super::sonar_wall::{Pose2, SensorMount, SonarWall};
+use super::sonar_wall::{SensorMount, SonarWall};
 use super::{PerceptRecord, Side};
+use crate::core::Pose2;
 
 /// Which beams of a scan act as side sonars. RON-loadable; defaults documented per field.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct SideBeamConfig {
     /// Bearing of the left "sonar", degrees CCW from the heading. Default 90.
     pub left_bearing_deg: f64,
@@ -69,7 +70,7 @@ pub type ScanPercepts = [PerceptRecord; 4];
 /// ```
 /// use lplace::percept::{ExtractConfig, ScanExtractor};
 /// use lplace::percept::scan::ScanView;
-/// use lplace::percept::sonar_wall::Pose2;
+/// use lplace::core::Pose2;
 /// let mut ex = ScanExtractor::new(ExtractConfig::default()).unwrap();
 /// let ranges = vec![3.0; 180];
 /// let step = std::f64::consts::PI / 180.0;

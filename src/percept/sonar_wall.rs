@@ -28,24 +28,15 @@ use serde::{Deserialize, Serialize};
 use super::config::ConfigError;
 use super::line_fit::{fit_line, LineFit};
 use super::{PerceptArg, PerceptKind, PerceptRecord, Side};
+use crate::core::Pose2;
 
 /// Most readings a [`SonarWall`] can hold.
 pub const MAX_READINGS: usize = 32;
 
-/// A planar robot pose: metres and radians (θ CCW from +x).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct Pose2 {
-    /// x, metres.
-    pub x: f64,
-    /// y, metres.
-    pub y: f64,
-    /// Heading, radians.
-    pub theta: f64,
-}
-
 /// Where a range sensor sits on the robot: position (metres) and pointing
 /// angle (radians, CCW from the heading), robot frame.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct SensorMount {
     /// Forward offset, metres.
     pub x: f64,
@@ -57,7 +48,7 @@ pub struct SensorMount {
 
 /// Parameters of the sonar-wall extractor. RON-loadable; every field has a default.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct SonarWallConfig {
     /// Readings per fit, 2..=[`MAX_READINGS`]. Default 8 (the paper's).
     pub readings: usize,
@@ -174,7 +165,8 @@ pub fn delta_wall(dispersion: f64, delta_max: f64) -> f64 {
 ///
 /// # Example
 /// ```
-/// use lplace::percept::sonar_wall::{Pose2, SensorMount, SonarWall, SonarWallConfig};
+/// use lplace::core::Pose2;
+/// use lplace::percept::sonar_wall::{SensorMount, SonarWall, SonarWallConfig};
 /// use lplace::percept::Side;
 /// let mut w = SonarWall::new(Side::Left, SonarWallConfig::default()).unwrap();
 /// let left = SensorMount { x: 0.0, y: 0.0, angle: std::f64::consts::FRAC_PI_2 };

@@ -29,6 +29,7 @@
 //! to 3 decimals, so a seed gives byte-identical output. Depends on `map`, `syntax` (rule
 //! bodies), `engine::frame` and `io::record`.
 
+use crate::core::angle::wrap_180;
 use crate::core::rng::SplitMix64;
 use crate::engine::{Engine, PerceptTable};
 use crate::io::record::{FrameRecord, Odometry, PerceptRecord, Truth, FORMAT_VERSION};
@@ -39,7 +40,7 @@ use serde::{Deserialize, Serialize};
 
 /// Simulator parameters (all have defaults; see `lplace simulate --help`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct SimConfig {
     /// Frames to emit.
     pub steps: u64,
@@ -573,8 +574,9 @@ impl Simulator {
     }
 }
 
+/// Degrees wrapped into (−180, 180]; a non-finite angle counts as no turn.
 fn wrap180(a: f64) -> f64 {
-    let a = (a + 180.0).rem_euclid(360.0) - 180.0;
+    let a = wrap_180(a);
     if a.is_finite() {
         a
     } else {

@@ -2,7 +2,7 @@
 //! map files, and the diagnostics every later stage reports with. Resolving a rule file against
 //! a map is the next layer's job (`rules`).
 //!
-//! This module may depend on `crate::core` and `crate::logic`. pest is used only in here:
+//! This module depends on nothing else in the crate. pest is used only in here:
 //! everything outside sees the AST and [`diagnostic::Diagnostic`]s.
 
 pub mod ast;
