@@ -187,7 +187,7 @@ pub const MAX_PARTICLES: usize = 10_000_000;
 impl PfConfig {
     /// Parses a RON document (missing fields take their defaults) and checks it.
     pub fn from_ron(text: &str) -> Result<Self, BaselineError> {
-        let cfg: PfConfig = ron::from_str(text).map_err(ron_error)?;
+        let cfg: PfConfig = crate::core::config::from_ron(text).map_err(ron_error)?;
         cfg.validate()?;
         Ok(cfg)
     }
@@ -650,7 +650,8 @@ mod tests {
             "(injection: Fixed(fraction: 0.1, totally_bogus_field: 1))",
         ] {
             match PfConfig::from_ron(text) {
-                Err(BaselineError::Ron { message, line, .. }) => {
+                Err(BaselineError::Ron { problem, line, .. }) => {
+                    let message = problem.to_string();
                     assert!(message.contains("totally_bogus_field"), "{message}");
                     assert_eq!(line, 1);
                 }

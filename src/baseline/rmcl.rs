@@ -128,7 +128,7 @@ impl Default for RmclConfig {
 impl RmclConfig {
     /// Parses a RON document (missing fields take their defaults) and checks it.
     pub fn from_ron(text: &str) -> Result<Self, BaselineError> {
-        let cfg: RmclConfig = ron::from_str(text).map_err(ron_error)?;
+        let cfg: RmclConfig = crate::core::config::from_ron(text).map_err(ron_error)?;
         cfg.validate()?;
         Ok(cfg)
     }
@@ -421,7 +421,8 @@ mod tests {
         assert_eq!(ok.max_cells, 7);
         assert_eq!(ok.top_cut, RmclConfig::default().top_cut);
         match RmclConfig::from_ron("(max_cells: 7,\n totally_bogus_field: 1)") {
-            Err(BaselineError::Ron { message, line, .. }) => {
+            Err(BaselineError::Ron { problem, line, .. }) => {
+                let message = problem.to_string();
                 assert!(message.contains("totally_bogus_field"), "{message}");
                 assert_eq!(line, 2);
             }

@@ -60,10 +60,10 @@ impl Default for CoopConfig {
 impl CoopConfig {
     /// Parses a RON document (missing fields take their defaults) and checks it.
     pub fn from_ron(text: &str) -> Result<Self, CoopError> {
-        let cfg: CoopConfig = ron::from_str(text).map_err(|e| CoopError::Ron {
-            line: e.position.line,
-            column: e.position.col,
-            message: e.code.to_string(),
+        let cfg: CoopConfig = crate::core::config::from_ron(text).map_err(|e| CoopError::Ron {
+            line: e.line,
+            column: e.column,
+            problem: e.problem,
         })?;
         cfg.validate()?;
         Ok(cfg)
@@ -130,7 +130,8 @@ mod tests {
         assert_eq!(ok.min_observers, 3);
         assert_eq!(ok.window, CoopConfig::default().window);
         match CoopConfig::from_ron("(min_observers: 3, totally_bogus_field: 1)") {
-            Err(CoopError::Ron { message, .. }) => {
+            Err(CoopError::Ron { problem, .. }) => {
+                let message = problem.to_string();
                 assert!(message.contains("totally_bogus_field"), "{message}");
             }
             other => panic!("{other:?}"),

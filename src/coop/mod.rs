@@ -33,14 +33,14 @@ pub enum CoopError {
         reason: &'static str,
     },
     /// The RON text of a configuration does not parse.
-    #[error("cooperative configuration, line {line} column {column}: {message}")]
+    #[error("cooperative configuration, line {line} column {column}: {problem}")]
     Ron {
         /// 1-based line.
         line: usize,
         /// 1-based column.
         column: usize,
-        /// The parser's message.
-        message: String,
+        /// What is wrong there (an unknown key names the nearest known one).
+        problem: crate::core::config::RonProblem,
     },
     /// An observation of the object is not usable.
     #[error("object observation: {what} is {value} (must be finite{extra})")]

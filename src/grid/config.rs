@@ -206,10 +206,10 @@ impl Default for GridConfig {
 impl GridConfig {
     /// Parses a RON document (missing fields take their defaults) and checks it.
     pub fn from_ron(text: &str) -> Result<Self, GridError> {
-        let cfg: GridConfig = ron::from_str(text).map_err(|e| GridError::Ron {
-            line: e.position.line,
-            column: e.position.col,
-            message: e.code.to_string(),
+        let cfg: GridConfig = crate::core::config::from_ron(text).map_err(|e| GridError::Ron {
+            line: e.line,
+            column: e.column,
+            problem: e.problem,
         })?;
         cfg.validate()?;
         Ok(cfg)
@@ -293,12 +293,21 @@ mod tests {
              totally_bogus_field: 1))",
         ] {
             match GridConfig::from_ron(text) {
-                Err(GridError::Ron { message, line, .. }) => {
+                Err(GridError::Ron { problem, line, .. }) => {
+                    let message = problem.to_string();
                     assert!(message.contains("totally_bogus_field"), "{message}");
                     assert_eq!(line, 1);
                 }
                 other => panic!("{text}: {other:?}"),
             }
+        }
+        // A misspelt key names the one meant.
+        match GridConfig::from_ron("(cell_sise: 0.2)") {
+            Err(GridError::Ron {
+                problem: crate::core::config::RonProblem::UnknownKey { key, nearest, .. },
+                ..
+            }) => assert_eq!((key.as_str(), nearest), ("cell_sise", Some("cell_size"))),
+            other => panic!("{other:?}"),
         }
     }
 }

@@ -45,14 +45,14 @@ pub enum GridError {
         reason: &'static str,
     },
     /// The RON text of a configuration does not parse.
-    #[error("grid configuration, line {line} column {column}: {message}")]
+    #[error("grid configuration, line {line} column {column}: {problem}")]
     Ron {
         /// 1-based line.
         line: usize,
         /// 1-based column.
         column: usize,
-        /// The parser's message.
-        message: String,
+        /// What is wrong there (an unknown key names the nearest known one).
+        problem: crate::core::config::RonProblem,
     },
     /// The requested extent would need too many cells.
     #[error("grid of {nx}×{ny} cells exceeds the limit of {limit} cells")]
