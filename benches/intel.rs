@@ -82,7 +82,7 @@ fn bench(c: &mut Criterion) {
                     engine.step(&frame);
                     let d = tracker.step(
                         engine.distribution(),
-                        f.odometry.unwrap_or_default(),
+                        f.odometry.unwrap_or_default().to_si(),
                         f.heading,
                     );
                     decided += usize::from(d.place().is_some());

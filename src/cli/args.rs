@@ -262,9 +262,6 @@ pub enum ArgError {
         /// The allowed range.
         range: &'static str,
     },
-    /// The tracker configuration is not valid.
-    #[error("--tracker: {0}")]
-    Tracker(#[from] crate::engine::tracker::TrackerConfigError),
 }
 
 /// Parses the command line (stage one).

@@ -123,7 +123,10 @@ fn tracker_config(args: &EvalArgs) -> Result<TrackerConfig, CliError> {
         path: path.display().to_string(),
         source,
     })?;
-    Ok(TrackerConfig::from_ron(&text).map_err(ArgError::Tracker)?)
+    TrackerConfig::from_ron(&text).map_err(|e| {
+        eprintln!("{}: {e}", path.display());
+        CliError::Diagnostics { count: 1 }
+    })
 }
 
 /// Writes a degree in `[0, 1]` with 4 decimals, without going through float formatting (this

@@ -1,7 +1,7 @@
 //! Paper 000's trapezoidal fuzzy set ⟨θ, Δ, α, h, b⟩ (Buschka, Saffiotti & Wasik, Fig. 2): the
 //! one statement of its shape and of how its bias enters, which both trapezoid types of the
-//! crate — the rule engine's [`crate::logic::Trapezoid`] (f64, degrees or metres, the centre
-//! given per comparison) and the grid's [`crate::grid::Trapezoid`] (f32, radians, with the
+//! crate — the rule engine's `logic::Trapezoid` (f64, degrees or metres, the centre
+//! given per comparison) and the grid's `grid::Trapezoid` (f32, radians, with the
 //! paper's angle-set intersection) — evaluate through.
 //!
 //! The paper: "the top of the trapezoid (core) identifies those values which are fully

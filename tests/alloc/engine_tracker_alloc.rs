@@ -3,47 +3,11 @@
 //! steps, with evidence of the right and the wrong length, odometry that is large, zero or not
 //! finite, headings known, missing or not finite, after the tracker is built.
 
+use super::allocations;
 use lplace::core::Odometry;
 use lplace::engine::tracker::{Tracker, TrackerConfig};
 use lplace::engine::Engine;
 use lplace::logic::{DecisionParams, PlaceDistribution};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
-struct Counting;
-
-thread_local! {
-    /// Allocations made by this thread: the test harness allocates on its own threads (and
-    /// the other test on its own) while a test measures.
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-fn allocations() -> usize {
-    ALLOCATIONS.with(Cell::get)
-}
-
-fn count() {
-    // `try_with`: a thread being torn down has no counter left, and its allocations do not
-    // matter here.
-    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        count();
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        count();
-        System.realloc(ptr, layout, new_size)
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
 
 #[test]
 fn step_allocates_nothing() {

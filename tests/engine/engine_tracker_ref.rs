@@ -459,7 +459,7 @@ proptest! {
 /// a neighbour, one for a far place — the reference and the tracker agree on each frame.
 #[test]
 fn office_walk_matches_reference() {
-    let map = Map::from_ast(&parse_map(include_str!("../maps/office.map")).expect("parses"))
+    let map = Map::from_ast(&parse_map(include_str!("../../maps/office.map")).expect("parses"))
         .expect("builds");
     let n = map.places().len();
     let params = DecisionParams {

@@ -13,7 +13,7 @@ use std::io::{BufRead, BufReader, Read};
 /// (malformed JSON, an unknown percept, a degree out of range, in turn) and a run of 600 bad
 /// lines (more than a batch) in the middle.
 fn stream(n: usize, bad: usize) -> Vec<u8> {
-    let good: Vec<&str> = include_str!("../recordings/office.jsonl")
+    let good: Vec<&str> = include_str!("../../recordings/office.jsonl")
         .lines()
         .filter(|l| !l.trim().is_empty())
         .collect();

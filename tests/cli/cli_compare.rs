@@ -3,22 +3,13 @@
 //! three output formats, the sweeps and their plot, exit codes for bad specs and malformed
 //! lines, `--help`; then real MRCLAM robot 1 (skipped when the data set is absent).
 
-use assert_cmd::Command;
+use crate::support::{lplace, mrclam_dir};
 use lplace::io::tum::read_tum;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-fn lplace() -> Command {
-    Command::cargo_bin("lplace").unwrap()
-}
-
-/// A fresh directory under cargo's per-target temporary directory.
+/// A fresh directory for this file's tests.
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("cli_compare")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    crate::support::scratch("cli_compare", name)
 }
 
 const MAP: &str = "map tiny;\n\
@@ -325,23 +316,11 @@ fn help_explains_methods_and_wall_time() {
     }
 }
 
-fn data_dir() -> PathBuf {
-    match std::env::var_os("LPLACE_DATA") {
-        Some(d) => PathBuf::from(d).join("mrclam-dataset7"),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mrclam-dataset7"),
-    }
-}
-
 #[test]
 fn mrclam_robot1_grid_and_small_pf() {
-    let dir = data_dir();
-    if !dir.join("Barcodes.dat").exists() {
-        eprintln!(
-            "skipping: MRCLAM dataset 7 not found at {} (set LPLACE_DATA)",
-            dir.display()
-        );
+    let Some(dir) = mrclam_dir() else {
         return;
-    }
+    };
     let out = lplace()
         .arg("compare")
         .arg("--from-dir")

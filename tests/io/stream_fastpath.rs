@@ -357,7 +357,7 @@ proptest! {
 /// The bundled recording (simulator output) reads the same on both paths.
 #[test]
 fn simulated_stream_agrees() {
-    let text = include_str!("../recordings/office.jsonl");
+    let text = include_str!("../../recordings/office.jsonl");
     let fast = read_all(text.as_bytes(), true);
     assert_eq!(fast, read_all(text.as_bytes(), false));
     assert!(fast.iter().all(|l| l.starts_with("frame")));

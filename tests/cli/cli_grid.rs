@@ -2,23 +2,14 @@
 //! data set directories (TUM output parses back, exit codes, malformed lines reported with
 //! their file and line), then real MRCLAM robot 1 (skipped when the data set is absent).
 
-use assert_cmd::Command;
+use crate::support::lplace;
 use lplace::io::record::FrameRecord;
 use lplace::io::tum::read_tum;
 use std::path::{Path, PathBuf};
 
-fn lplace() -> Command {
-    Command::cargo_bin("lplace").unwrap()
-}
-
-/// A fresh directory under cargo's per-target temporary directory.
+/// A fresh directory for this file's tests.
 fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("cli_grid")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    crate::support::scratch("cli_grid", name)
 }
 
 const MAP: &str = "map tiny;\n\
@@ -216,23 +207,11 @@ fn extract_mrclam_clean_and_argument_errors() {
         .code(1);
 }
 
-fn data_dir() -> PathBuf {
-    match std::env::var_os("LPLACE_DATA") {
-        Some(d) => PathBuf::from(d).join("mrclam-dataset7"),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mrclam-dataset7"),
-    }
-}
-
 #[test]
 fn mrclam_robot1_extract_then_grid() {
-    let dir = data_dir();
-    if !dir.join("Barcodes.dat").exists() {
-        eprintln!(
-            "skipping: MRCLAM dataset 7 not found at {} (set LPLACE_DATA)",
-            dir.display()
-        );
+    let Some(dir) = crate::support::mrclam_dir() else {
         return;
-    }
+    };
     let d = scratch("real");
     let out = lplace()
         .args(["extract", "--from", "mrclam"])

@@ -1,7 +1,7 @@
 //! Fuzzy R-MCL (paper 001): the fallback path, refinement when samples qualify, determinism,
 //! convergence on a simulated run, and hostile input.
 
-mod baseline_sim;
+use super::baseline_sim;
 
 use baseline_sim::{table, BOUNDS};
 use lplace::baseline::{BaselineError, FuzzyRmcl, RmclConfig};

@@ -179,7 +179,7 @@ fn report(what: &str, s: &Score) -> f64 {
 
 #[test]
 fn office_recording_refined_pose_lies_in_the_truth_place() {
-    let text = include_str!("../recordings/office.jsonl");
+    let text = include_str!("../../recordings/office.jsonl");
     let records: Vec<FrameRecord> = text
         .lines()
         .map(|l| FrameRecord::parse(l).unwrap())

@@ -11,11 +11,11 @@ use lplace::rules::{check_rules, RuleSet};
 use lplace::syntax::{parse_map, parse_rules};
 use proptest::prelude::*;
 
-const FIELD_MAP: &str = include_str!("../maps/field.map");
-const FIELD_RULES: &str = include_str!("../rules/field.lpl");
+const FIELD_MAP: &str = include_str!("../../maps/field.map");
+const FIELD_RULES: &str = include_str!("../../rules/field.lpl");
 // Expected ranges (`param free(North) = a .. b;`) and a negated derived atom.
-const INTEL_MAP: &str = include_str!("../maps/intel.map");
-const INTEL_RULES: &str = include_str!("../rules/intel.lpl");
+const INTEL_MAP: &str = include_str!("../../maps/intel.map");
+const INTEL_RULES: &str = include_str!("../../rules/intel.lpl");
 
 fn model(map: &str, rules: &str, tnorm: &str, implication: &str) -> (Map, RuleSet) {
     let map = Map::from_ast(&parse_map(map).expect("map parses")).expect("map checks");

@@ -2,7 +2,7 @@
 //! brute-force reference, convergence and kidnap recovery on a simulated run, determinism,
 //! hostile input, and robot 1 of MRCLAM dataset 7 (skipped when the data set is absent).
 
-mod baseline_sim;
+use super::baseline_sim;
 
 use baseline_sim::{table, BOUNDS};
 use lplace::baseline::pf::{apply_motion, low_variance_resample, wheel_increment, Injection};
@@ -348,18 +348,9 @@ fn same_seed_same_run_other_seed_other_run() {
 
 #[test]
 fn mrclam_robot1_pf500() {
-    let dir = match std::env::var_os("LPLACE_DATA") {
-        Some(d) => std::path::PathBuf::from(d).join("mrclam-dataset7"),
-        None => std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-            .join("../shared/data/mrclam-dataset7"),
-    };
-    if !dir.join("Barcodes.dat").exists() {
-        eprintln!(
-            "MRCLAM dataset 7 not found at {} — set LPLACE_DATA; skipping.",
-            dir.display()
-        );
+    let Some(dir) = crate::support::mrclam_dir() else {
         return;
-    }
+    };
     let frames = mrclam_frames(&dir, 1);
     let table = mrclam_table(&dir);
     let text =

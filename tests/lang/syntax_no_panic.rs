@@ -7,8 +7,8 @@ use lplace::rules::check_rules;
 use lplace::syntax::{parse_map, parse_rules, DiagnosticKind};
 use proptest::prelude::*;
 
-const OFFICE_MAP: &str = include_str!("../maps/office.map");
-const OFFICE_RULES: &str = include_str!("../rules/office.lpl");
+const OFFICE_MAP: &str = include_str!("../../maps/office.map");
+const OFFICE_RULES: &str = include_str!("../../rules/office.lpl");
 
 fn office_map() -> Map {
     Map::from_ast(&parse_map(OFFICE_MAP).expect("office map parses")).expect("office map builds")

@@ -212,7 +212,7 @@ fn config_round_trips_through_ron_and_rejects_nonsense() {
         GridConfig::from_ron("(cell_size: )"),
         Err(lplace::grid::GridError::Ron { .. })
     ));
-    let shipped = include_str!("../config/grid-mrclam.ron");
+    let shipped = include_str!("../../config/grid-mrclam.ron");
     GridConfig::from_ron(shipped).unwrap();
 }
 

@@ -1,12 +1,8 @@
 //! End-to-end tests of `lplace eval` over streams: hand-worked decisions, every exit code, each
 //! kind of bad input (with its line number), the bundled recording, tracking on vs off, the plot.
 
-use assert_cmd::Command;
+use crate::support::lplace;
 use std::path::PathBuf;
-
-fn lplace() -> Command {
-    Command::cargo_bin("lplace").expect("the lplace binary is built")
-}
 
 /// A file in the temp directory, unique to this test process and name.
 fn temp(name: &str, text: &str) -> PathBuf {
@@ -317,4 +313,39 @@ fn plot_writes_svg() {
     assert!(svg.starts_with("<svg"));
     assert!(svg.contains(">P7</text>"));
     assert!(svg.trim_end().ends_with("</svg>"));
+}
+
+#[test]
+fn a_configuration_key_nobody_declared_is_a_bad_input_naming_it() {
+    // Tracker file: `bias` misspelt (one edit away) on line 3; extractor file: a key far from
+    // every known one. Both must stop before any work with exit 2, naming file, line and key.
+    let tracker = temp(
+        "typo-tracker.ron",
+        "(\n    slope: 0.5,\n    bais: 0.1,\n)\n",
+    );
+    let out = lplace()
+        .args(["eval", "--only-summary", "--tracker"])
+        .arg(&tracker)
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("typo-tracker.ron"), "{err}");
+    assert!(err.contains("line 3"), "{err}");
+    assert!(err.contains("unknown key `bais`"), "{err}");
+    assert!(err.contains("did you mean `bias`?"), "{err}");
+
+    let extract = temp("typo-extract.ron", "(totally_bogus_field: 1)\n");
+    let log = temp("empty.log", "");
+    let out = lplace()
+        .args(["extract", "--from", "carmen"])
+        .arg(&log)
+        .arg("--config")
+        .arg(&extract)
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("typo-extract.ron"), "{err}");
+    assert!(err.contains("unknown key `totally_bogus_field`"), "{err}");
 }

@@ -1,13 +1,13 @@
 //! The MRCLAM reader on hand-written lines, the TUM round trip, and the grid
 //! on real MRCLAM robot 1 data (skipped when the data set is absent).
 
+use crate::support::mrclam_dir;
 use lplace::grid::place::survey_landmarks;
 use lplace::grid::GridConfig;
 use lplace::io::mrclam::*;
 use lplace::io::tum::{read_tum, write_tum, TumError, TumPose};
 use lplace::localize::grid::run;
 use lplace::localize::RunOptions;
-use std::path::PathBuf;
 
 fn codes() -> Barcodes {
     read_barcodes("# c\n# c\n1 5\n6 63\n7 81\n".as_bytes()).unwrap()
@@ -190,29 +190,17 @@ fn tum_round_trip_and_errors() {
     ));
 }
 
-fn data_dir() -> PathBuf {
-    match std::env::var_os("LPLACE_DATA") {
-        Some(d) => PathBuf::from(d).join("mrclam-dataset7"),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mrclam-dataset7"),
-    }
-}
-
 #[test]
 fn mrclam_robot1_ate_is_locked_in() {
-    let dir = data_dir();
-    if !dir.join("Robot1_Measurement.dat").exists() {
-        eprintln!(
-            "SKIPPED: MRCLAM dataset 7 not found at {} (set LPLACE_DATA)",
-            dir.display()
-        );
+    let Some(dir) = mrclam_dir() else {
         return;
-    }
+    };
     let data = lplace::io::mrclam_dir::load(&dir, &[1]).unwrap();
     assert!(data.skipped.is_empty(), "{:?}", data.skipped);
     assert_eq!(data.survey().unwrap().len(), 15);
     let table = survey_landmarks(data.survey().unwrap()).unwrap();
     let frames = data.robots.into_iter().next().unwrap().frames;
-    let cfg = GridConfig::from_ron(include_str!("../config/grid-mrclam.ron")).unwrap();
+    let cfg = GridConfig::from_ron(include_str!("../../config/grid-mrclam.ron")).unwrap();
     let rep = run(&table, &cfg, frames, &RunOptions::default()).unwrap();
     let ate = rep.ate.expect("a fix and truth");
     eprintln!("robot 1: {ate:?}, first fix {:?}", rep.first_fix);

@@ -8,20 +8,8 @@
 //! SVG into the test's temporary directory. Skips with a message when the data is absent
 //! (`$LPLACE_DATA`, else `../shared/data` next to the crate).
 
-use assert_cmd::Command;
+use crate::support::{data_dir, lplace};
 use std::path::PathBuf;
-
-fn data_dir() -> PathBuf {
-    std::env::var_os("LPLACE_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data"))
-}
-
-fn lplace() -> Command {
-    let mut c = Command::cargo_bin("lplace").expect("the lplace binary is built");
-    c.current_dir(env!("CARGO_MANIFEST_DIR"));
-    c
-}
 
 /// The figures of one `eval --summary json` run.
 #[derive(Debug)]

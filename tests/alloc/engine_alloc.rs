@@ -1,30 +1,8 @@
-//! `Engine::step` allocates nothing: a counting global allocator watches a thousand steps on
+//! `Engine::step` allocates nothing: a counting allocator (per thread, `main.rs`) watches a thousand steps on
 //! varied frames (including hostile ones) after the engine is loaded.
 
+use super::allocations;
 use lplace::engine::Engine;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-struct Counting;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        System.realloc(ptr, layout, new_size)
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
 
 #[test]
 fn step_allocates_nothing() {
@@ -42,14 +20,14 @@ fn step_allocates_nothing() {
             *v = ((i * 13 + j * 7) % 360) as f64;
         }
     }
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    let before = allocations();
     let mut chosen = 0usize;
     for k in 0..1000 {
         if engine.step(&frames[k % frames.len()]).place().is_some() {
             chosen += 1;
         }
     }
-    let after = ALLOCATIONS.load(Ordering::SeqCst);
+    let after = allocations();
     assert_eq!(after - before, 0, "step allocated {} times", after - before);
     // Keep the decisions observable so the loop cannot be optimised away.
     assert!(chosen <= 1000);

@@ -6,20 +6,13 @@
 
 use std::fs::File;
 use std::io::BufReader;
-use std::path::PathBuf;
 use std::time::Instant;
 
+use crate::support::data_dir;
 use lplace::io::carmen::{CarmenMessage, CarmenReader};
 use lplace::io::uci::UciReader;
 use lplace::percept::laser_line::PivotRule;
 use lplace::percept::{ExtractConfig, ScanExtractor};
-
-fn data_dir() -> PathBuf {
-    match std::env::var_os("LPLACE_DATA") {
-        Some(p) => PathBuf::from(p),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data"),
-    }
-}
 
 fn open(rel: &str) -> Option<BufReader<File>> {
     let path = data_dir().join(rel);

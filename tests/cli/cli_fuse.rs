@@ -1,19 +1,8 @@
 //! `lplace fuse` end to end: help, exit codes for bad flags and missing files, malformed data
 //! lines reported with their file and line, and (when MRCLAM is present) a short real run.
 
-use assert_cmd::Command;
-use std::path::{Path, PathBuf};
-
-fn lplace() -> Command {
-    Command::cargo_bin("lplace").unwrap()
-}
-
-fn data_dir() -> PathBuf {
-    match std::env::var_os("LPLACE_DATA") {
-        Some(d) => PathBuf::from(d).join("mrclam-dataset7"),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mrclam-dataset7"),
-    }
-}
+use crate::support::{lplace, mrclam_dir};
+use std::path::Path;
 
 #[test]
 fn help_names_the_flags() {
@@ -57,11 +46,9 @@ fn bad_flags_exit_2_and_missing_files_exit_1() {
 
 #[test]
 fn a_malformed_line_is_reported_and_exits_3() {
-    let src = data_dir();
-    if !src.join("Barcodes.dat").exists() {
-        eprintln!("SKIPPED: MRCLAM dataset 7 not found at {}", src.display());
+    let Some(src) = mrclam_dir() else {
         return;
-    }
+    };
     // A copy of the data set in the scratch directory with one broken odometry line.
     let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_fuse_broken");
     let _ = std::fs::remove_dir_all(&d);
@@ -88,11 +75,9 @@ fn a_malformed_line_is_reported_and_exits_3() {
 
 #[test]
 fn mrclam_json_has_every_object_and_the_overall_summary() {
-    let dir = data_dir();
-    if !dir.join("Barcodes.dat").exists() {
-        eprintln!("SKIPPED: MRCLAM dataset 7 not found at {}", dir.display());
+    let Some(dir) = mrclam_dir() else {
         return;
-    }
+    };
     let out = lplace()
         .args(["fuse", "--until", "120", "--format", "json", "--from-dir"])
         .arg(&dir)

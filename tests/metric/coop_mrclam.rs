@@ -2,18 +2,12 @@
 //! the first 200 s, every robot in turn the object. Checks that events happen and every error
 //! is finite, and that the bundled configuration parses.
 
+use crate::support::mrclam_dir;
 use lplace::coop::experiment::{run, Options, RobotTrack};
 use lplace::coop::CoopConfig;
 use lplace::grid::place::survey_landmarks;
 use lplace::grid::GridConfig;
 use std::path::PathBuf;
-
-fn data_dir() -> PathBuf {
-    match std::env::var_os("LPLACE_DATA") {
-        Some(d) => PathBuf::from(d).join("mrclam-dataset7"),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mrclam-dataset7"),
-    }
-}
 
 fn config(name: &str) -> String {
     std::fs::read_to_string(
@@ -38,14 +32,9 @@ fn bundled_configuration_is_the_default() {
 
 #[test]
 fn mrclam_fusion_gives_finite_errors() {
-    let dir = data_dir();
-    if !dir.join("Robot1_Measurement.dat").exists() {
-        eprintln!(
-            "SKIPPED: MRCLAM dataset 7 not found at {} (set LPLACE_DATA)",
-            dir.display()
-        );
+    let Some(dir) = mrclam_dir() else {
         return;
-    }
+    };
     let data = lplace::io::mrclam_dir::load(&dir, &[1, 2, 3, 4, 5]).unwrap();
     assert!(data.skipped.is_empty(), "{:?}", data.skipped);
     let table = survey_landmarks(data.survey().unwrap()).unwrap();

@@ -11,7 +11,7 @@ fn map(text: &str) -> Map {
 }
 
 fn office() -> Map {
-    map(include_str!("../maps/office.map"))
+    map(include_str!("../../maps/office.map"))
 }
 
 fn close(a: f64, b: f64) -> bool {

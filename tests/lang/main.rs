@@ -1,0 +1,12 @@
+//! The `syntax`, `map` and `rules` layers: the grammars, the diagnostics, the bundled examples,
+//! hostile text, and the map model.
+
+#[allow(dead_code)]
+#[path = "../support/mod.rs"]
+mod support;
+
+mod map_model;
+mod syntax_diagnostics;
+mod syntax_examples;
+mod syntax_grammar;
+mod syntax_no_panic;
