@@ -17,10 +17,10 @@ use std::path::{Path, PathBuf};
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use lplace::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
-use lplace::grid::run::GridLocalizer;
 use lplace::grid::{GridConfig, Landmark, LandmarkTable};
-use lplace::io::mrclam::{self, MergeOptions, MetricFrame};
-use lplace::localize::{Drive, Localizer, RunOptions};
+use lplace::io::mrclam::{self, MergeOptions};
+use lplace::localize::grid::GridLocalizer;
+use lplace::localize::{Drive, Localizer, MetricFrame, RunOptions};
 
 type Res<T> = Result<T, Box<dyn std::error::Error>>;
 

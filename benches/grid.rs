@@ -19,7 +19,8 @@
 //! a saturated, almost uniform plane).
 
 use criterion::{black_box, criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
-use lplace::grid::{wrap_pi, FuzzyGrid, GridConfig, Motion, Trapezoid};
+use lplace::core::angle::wrap_pi_f32 as wrap_pi;
+use lplace::grid::{FuzzyGrid, GridConfig, Motion, Trapezoid};
 
 fn empty(nx: usize, ny: usize) -> FuzzyGrid {
     let s = 0.1;

@@ -11,11 +11,10 @@
 
 use lplace::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
 use lplace::grid::place::survey_landmarks;
-use lplace::grid::run::GridLocalizer;
 use lplace::grid::{GridConfig, LandmarkTable};
-use lplace::io::mrclam::MetricFrame;
 use lplace::io::mrclam_dir;
-use lplace::localize::{drive, Kidnap, Localizer, Recovery, RunOptions, RunReport};
+use lplace::localize::grid::GridLocalizer;
+use lplace::localize::{drive, Kidnap, Localizer, MetricFrame, Recovery, RunOptions, RunReport};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 

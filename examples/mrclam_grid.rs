@@ -13,12 +13,14 @@
 //!
 //! `cargo run --release --example mrclam_grid [config/grid-mrclam.ron] [--diagnose DIR]`
 
+use lplace::core::angle::wrap_pi_f32 as wrap_pi;
 use lplace::grid::place::survey_landmarks;
-use lplace::grid::run::{run, GridLocalizer, Kidnap, Recovery, RunOptions, RunReport};
-use lplace::grid::{wrap_pi, GridConfig, GridError, LandmarkTable, Motion, Observation};
-use lplace::io::mrclam::MetricFrame;
+use lplace::grid::{GridConfig, GridError, LandmarkTable, Motion, Observation};
 use lplace::io::mrclam_dir;
-use lplace::localize::{Drive, Localizer, PoseEstimate};
+use lplace::localize::grid::{run, GridLocalizer};
+use lplace::localize::{
+    Drive, Kidnap, Localizer, MetricFrame, PoseEstimate, Recovery, RunOptions, RunReport,
+};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 

@@ -46,14 +46,14 @@ pub enum BaselineError {
         reason: &'static str,
     },
     /// The RON text of a configuration does not parse.
-    #[error("baseline configuration, line {line} column {column}: {message}")]
+    #[error("baseline configuration, line {line} column {column}: {problem}")]
     Ron {
         /// 1-based line.
         line: usize,
         /// 1-based column.
         column: usize,
-        /// The parser's message.
-        message: String,
+        /// What is wrong there (an unknown key names the nearest known one).
+        problem: crate::core::config::RonProblem,
     },
     /// The extent is not `x_min < x_max`, `y_min < y_max`, all finite.
     #[error("bad bounds {0:?}: need finite x_min < x_max, y_min < y_max")]
@@ -104,12 +104,12 @@ pub(crate) fn check_observation(
     })
 }
 
-/// Maps an `ron` error onto [`BaselineError::Ron`].
-pub(crate) fn ron_error(e: ron::error::SpannedError) -> BaselineError {
+/// Maps the configuration reader's error onto [`BaselineError::Ron`].
+pub(crate) fn ron_error(e: crate::core::config::RonError) -> BaselineError {
     BaselineError::Ron {
-        line: e.position.line,
-        column: e.position.col,
-        message: e.code.to_string(),
+        line: e.line,
+        column: e.column,
+        problem: e.problem,
     }
 }
 

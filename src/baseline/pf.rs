@@ -84,14 +84,15 @@
 use super::Reading;
 use super::{check_bounds, check_motion, check_observation, ron_error, wrap, BaselineError};
 use crate::core::rng::SplitMix64;
+use crate::core::Pose2;
 use crate::grid::{LandmarkTable, Motion, Observation};
-use crate::io::mrclam::Pose2;
 use crate::localize::{Localizer, PoseEstimate};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// How random particles are injected (kidnap recovery).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum Injection {
     /// Never: a plain particle filter, which cannot recover once the set has collapsed.
     Off,
@@ -113,7 +114,7 @@ pub enum Injection {
 
 /// Parameters of the particle filter (see the module docs for the model each one enters).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct PfConfig {
     /// Number of particles N. Default 500 (paper 004 used 2000 in a 1 × 0.75 m arena).
     pub particles: usize,
@@ -186,7 +187,7 @@ pub const MAX_PARTICLES: usize = 10_000_000;
 impl PfConfig {
     /// Parses a RON document (missing fields take their defaults) and checks it.
     pub fn from_ron(text: &str) -> Result<Self, BaselineError> {
-        let cfg: PfConfig = ron::from_str(text).map_err(ron_error)?;
+        let cfg: PfConfig = crate::core::config::from_ron(text).map_err(ron_error)?;
         cfg.validate()?;
         Ok(cfg)
     }
@@ -284,7 +285,7 @@ pub fn wheel_increment(ds_left: f64, ds_right: f64, track: f64) -> Motion {
 /// ```
 /// use lplace::baseline::pf::apply_motion;
 /// use lplace::grid::Motion;
-/// use lplace::io::mrclam::Pose2;
+/// use lplace::core::Pose2;
 /// let p = apply_motion(Pose2 { x: 0.0, y: 0.0, theta: std::f64::consts::FRAC_PI_2 },
 ///                      &Motion { forward: 1.0, lateral: 0.0, turn: 0.0, dt: 0.0 });
 /// assert!(p.x.abs() < 1e-7 && (p.y - 1.0).abs() < 1e-7);
@@ -638,6 +639,26 @@ impl Localizer for ParticleFilter {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn config_rejects_unknown_keys_and_defaults_omitted_ones() {
+        let ok = PfConfig::from_ron("(particles: 300)").unwrap();
+        assert_eq!(ok.particles, 300);
+        assert_eq!(ok.outlier, PfConfig::default().outlier);
+        for text in [
+            "(particles: 300, totally_bogus_field: 1)",
+            "(injection: Fixed(fraction: 0.1, totally_bogus_field: 1))",
+        ] {
+            match PfConfig::from_ron(text) {
+                Err(BaselineError::Ron { problem, line, .. }) => {
+                    let message = problem.to_string();
+                    assert!(message.contains("totally_bogus_field"), "{message}");
+                    assert_eq!(line, 1);
+                }
+                other => panic!("{text}: {other:?}"),
+            }
+        }
+    }
 
     #[test]
     fn low_variance_hand_case() {

@@ -75,15 +75,15 @@
 use super::Reading;
 use super::{check_bounds, check_motion, check_observation, ron_error, wrap, BaselineError};
 use crate::core::rng::SplitMix64;
-use crate::grid::run::GridLocalizer;
+use crate::core::Pose2;
 use crate::grid::{GridConfig, LandmarkTable, Motion, Observation, Trapezoid};
-use crate::io::mrclam::Pose2;
+use crate::localize::grid::GridLocalizer;
 use crate::localize::{Localizer, PoseEstimate};
 use serde::{Deserialize, Serialize};
 
 /// Parameters of Fuzzy R-MCL's cell choice and samples (the grid has its own [`GridConfig`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct RmclConfig {
     /// Candidate cells have `h ≥ top_cut · h_max`, in (0, 1]. Default 0.5.
     pub top_cut: f32,
@@ -128,7 +128,7 @@ impl Default for RmclConfig {
 impl RmclConfig {
     /// Parses a RON document (missing fields take their defaults) and checks it.
     pub fn from_ron(text: &str) -> Result<Self, BaselineError> {
-        let cfg: RmclConfig = ron::from_str(text).map_err(ron_error)?;
+        let cfg: RmclConfig = crate::core::config::from_ron(text).map_err(ron_error)?;
         cfg.validate()?;
         Ok(cfg)
     }
@@ -414,6 +414,21 @@ fn weighted_mean(samples: &[(f64, f64, f64, f32)]) -> Option<(f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn config_rejects_unknown_keys_and_defaults_omitted_ones() {
+        let ok = RmclConfig::from_ron("(max_cells: 7)").unwrap();
+        assert_eq!(ok.max_cells, 7);
+        assert_eq!(ok.top_cut, RmclConfig::default().top_cut);
+        match RmclConfig::from_ron("(max_cells: 7,\n totally_bogus_field: 1)") {
+            Err(BaselineError::Ron { problem, line, .. }) => {
+                let message = problem.to_string();
+                assert!(message.contains("totally_bogus_field"), "{message}");
+                assert_eq!(line, 2);
+            }
+            other => panic!("{other:?}"),
+        }
+    }
 
     #[test]
     fn weighting_hand_case() {

@@ -22,12 +22,11 @@ use super::grid::{
 };
 use super::{CliError, EXIT_OK, EXIT_REJECTED};
 use crate::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
-use crate::grid::run::GridLocalizer;
 use crate::grid::{GridConfig, LandmarkTable};
-use crate::io::mrclam::MetricFrame;
+use crate::localize::grid::GridLocalizer;
 use crate::localize::perturb::{perturb, Perturbation, KEEP_LEVELS, NOISE_LEVELS};
 use crate::localize::{
-    common_window_start, AteStats, Drive, Localizer, Recovery, RunOptions, RunReport,
+    common_window_start, AteStats, Drive, Localizer, MetricFrame, Recovery, RunOptions, RunReport,
 };
 use crate::report::sweep::{self, Panel, Series};
 

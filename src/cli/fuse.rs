@@ -12,10 +12,11 @@ use std::path::{Path, PathBuf};
 
 use super::args::Format;
 use super::{read_source, CliError, EXIT_OK, EXIT_REJECTED};
-use crate::coop::experiment::{self, Options, Report, RobotLog, Stat, Summary};
+use crate::coop::experiment::{self, Options, Report, RobotTrack, Stat, Summary};
 use crate::coop::CoopConfig;
 use crate::grid::place::survey_landmarks;
 use crate::grid::{GridConfig, LandmarkTable};
+use crate::io::mrclam_dir::RobotLog;
 
 /// `lplace fuse`.
 #[derive(Debug, Clone, clap::Args)]
@@ -103,7 +104,15 @@ pub fn run(args: &FuseArgs, out: &mut impl Write) -> Result<u8, CliError> {
         },
         until: args.until,
     };
-    let report = experiment::run(&table, &grid_cfg, &cfg, &logs, &opts).map_err(bad)?;
+    let tracks: Vec<RobotTrack> = logs
+        .iter()
+        .map(|l| RobotTrack {
+            robot: l.robot,
+            frames: &l.frames,
+            truth: &l.truth,
+        })
+        .collect();
+    let report = experiment::run(&table, &grid_cfg, &cfg, &tracks, &opts).map_err(bad)?;
     match args.format {
         Format::Json => {
             let mut v = serde_json::to_value(&report).map_err(std::io::Error::from)?;

@@ -1,4 +1,4 @@
-//! `lplace grid [--map MAP] STREAM --tum OUT`: runs the Fuzzy Position Grid (`grid::run`) over a
+//! `lplace grid [--map MAP] STREAM --tum OUT`: runs the Fuzzy Position Grid (`localize::grid::run`) over a
 //! percept stream of landmark range/bearing frames (what `lplace extract --from mrclam` writes),
 //! writes the estimated trajectory in TUM format, and prints the scores against the stream's
 //! truth poses: ATE without alignment, time to first fix and, with `--kidnap-at`, the recovery
@@ -18,16 +18,13 @@ use std::path::{Path, PathBuf};
 
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::grid::place::map_landmarks;
-use crate::grid::run::{
-    run as run_grid, FrameEstimate, GridLocalizer, Kidnap, Recovery, RunOptions, RunReport,
-};
 use crate::grid::{FuzzyGrid, GridConfig, LandmarkTable};
 use crate::io::landmark_stream;
-use crate::io::mrclam::MetricFrame;
 use crate::io::mrclam_stream::RecordReader;
 use crate::io::stream::{StreamFormat, StreamReader};
 use crate::io::tum::{write_tum, TumPose};
-use crate::localize::Drive;
+use crate::localize::grid::{run as run_grid, GridLocalizer};
+use crate::localize::{Drive, FrameEstimate, Kidnap, MetricFrame, Recovery, RunOptions, RunReport};
 use crate::map::Map;
 use crate::syntax::diagnostic::SourceFile;
 use crate::syntax::parse_map;
@@ -382,7 +379,7 @@ fn print_scores(
 /// pictures show the belief shrinking from total ignorance.
 const SVG_TIMES: [f64; 6] = [0.5, 1.0, 2.0, 4.0, 8.0, 16.0];
 
-/// Replays the grid's run (the same [`Drive`] as `grid::run`) and draws the plane at
+/// Replays the grid's run (the same [`Drive`] as `localize::grid::run`) and draws the plane at
 /// [`SVG_TIMES`].
 fn write_frames(
     dir: &Path,

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 /// All parameters of the object grids, the fusion, the estimate and the MRCLAM protocol.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct CoopConfig {
     /// Range model of a robot's reading of the object: the trapezoid put around `ρ` (paper 000's
     /// `⟨r, Δ, α, 1, b⟩`, widths growing with the reading). Default: the same as the grid's
@@ -60,10 +60,10 @@ impl Default for CoopConfig {
 impl CoopConfig {
     /// Parses a RON document (missing fields take their defaults) and checks it.
     pub fn from_ron(text: &str) -> Result<Self, CoopError> {
-        let cfg: CoopConfig = ron::from_str(text).map_err(|e| CoopError::Ron {
-            line: e.position.line,
-            column: e.position.col,
-            message: e.code.to_string(),
+        let cfg: CoopConfig = crate::core::config::from_ron(text).map_err(|e| CoopError::Ron {
+            line: e.line,
+            column: e.column,
+            problem: e.problem,
         })?;
         cfg.validate()?;
         Ok(cfg)
@@ -117,5 +117,24 @@ impl CoopConfig {
     /// possibility that neither part of it is an outlier.
     pub fn observation_reliability(&self) -> f32 {
         1.0 - self.range.bias.max(self.bearing.bias)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_unknown_keys_and_defaults_omitted_ones() {
+        let ok = CoopConfig::from_ron("(min_observers: 3)").unwrap();
+        assert_eq!(ok.min_observers, 3);
+        assert_eq!(ok.window, CoopConfig::default().window);
+        match CoopConfig::from_ron("(min_observers: 3, totally_bogus_field: 1)") {
+            Err(CoopError::Ron { problem, .. }) => {
+                let message = problem.to_string();
+                assert!(message.contains("totally_bogus_field"), "{message}");
+            }
+            other => panic!("{other:?}"),
+        }
     }
 }

@@ -31,25 +31,34 @@
 //! # Example
 //!
 //! ```
-//! use lplace::coop::experiment::{run, RobotLog, Options};
+//! use lplace::coop::experiment::{run, RobotTrack, Options};
 //! use lplace::coop::CoopConfig;
 //! use lplace::grid::{GridConfig, Landmark, LandmarkTable};
 //! let table = LandmarkTable::new(vec![Landmark { id: 6, x: 0.0, y: 0.0 }]).unwrap();
-//! let logs: Vec<RobotLog> = Vec::new();
+//! let logs: Vec<RobotTrack> = Vec::new();
 //! let r = run(&table, &GridConfig::default(), &CoopConfig::default(), &logs, &Options::default()).unwrap();
 //! assert_eq!(r.overall.events, 0);
 //! ```
 
 use super::fuse::{average, fuse, weighted_average};
 use super::{object_grid, CoopConfig, CoopError, ObjectGrid, ObjectReading};
-use crate::grid::run::GridLocalizer;
 use crate::grid::{GridConfig, LandmarkTable};
-use crate::io::mrclam::{interpolate_truth, TruthRow};
-use crate::localize::{Drive, RunOptions};
+use crate::localize::grid::GridLocalizer;
+use crate::localize::{interpolate_truth, Drive, FrameEstimate, MetricFrame, RunOptions, TruthRow};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
-pub use crate::io::mrclam_dir::RobotLog;
+/// One robot's recording as the experiment reads it (a dataset reader, such as
+/// `io::mrclam_dir`, owns the data).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RobotTrack<'a> {
+    /// Robot (subject) number; other robots' readings name it.
+    pub robot: u32,
+    /// Its frames, with readings of landmarks and of robots.
+    pub frames: &'a [MetricFrame],
+    /// Its ground-truth track, time-ordered.
+    pub truth: &'a [TruthRow],
+}
 
 /// What to run.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -202,7 +211,7 @@ pub fn run(
     table: &LandmarkTable,
     grid_cfg: &GridConfig,
     cfg: &CoopConfig,
-    logs: &[RobotLog],
+    logs: &[RobotTrack<'_>],
     opts: &Options,
 ) -> Result<Report, CoopError> {
     cfg.validate()?;
@@ -212,11 +221,37 @@ pub fn run(
         opts.objects.clone()
     };
     let mut locs = Vec::with_capacity(logs.len());
-    let mut drives = Vec::with_capacity(logs.len());
     for _ in logs {
         locs.push(GridLocalizer::new(table, grid_cfg)?);
-        drives.push(Drive::new(table, RunOptions::default()));
     }
+    let seen = collect_sightings(table, cfg, logs, &objects, opts.until, &mut locs);
+    let geometry = locs.first().map(|l| super::GridGeometry::of(l.grid()));
+    Ok(score_all(logs, &objects, &seen, geometry, cfg))
+}
+
+/// What the robots' runs produced: the sightings, the cells of one object grid, and the
+/// readings that gave no object grid.
+struct Seen {
+    sightings: Vec<Sighting>,
+    cells: usize,
+    rejected: usize,
+}
+
+/// Steps every robot's grid over its frames in one global time order (ties by robot, then
+/// frame) until `until` seconds after the first frame, and turns each reading of an object robot
+/// into a [`Sighting`] right after its observer's frame.
+fn collect_sightings(
+    table: &LandmarkTable,
+    cfg: &CoopConfig,
+    logs: &[RobotTrack<'_>],
+    objects: &[u32],
+    until: Option<f64>,
+    locs: &mut [GridLocalizer],
+) -> Seen {
+    let mut drives: Vec<Drive> = logs
+        .iter()
+        .map(|_| Drive::new(table, RunOptions::default()))
+        .collect();
     let mut order: Vec<(f64, usize, usize)> = logs
         .iter()
         .enumerate()
@@ -224,13 +259,15 @@ pub fn run(
         .filter(|x| x.0.is_finite())
         .collect();
     order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
-    let t_end = match (opts.until, order.first()) {
+    let t_end = match (until, order.first()) {
         (Some(u), Some(first)) => first.0 + u,
         _ => f64::INFINITY,
     };
-    let mut cells = 0;
-    let mut rejected = 0;
-    let mut sightings: Vec<Sighting> = Vec::new();
+    let mut seen = Seen {
+        sightings: Vec::new(),
+        cells: 0,
+        rejected: 0,
+    };
     for &(t, r, k) in &order {
         if t > t_end {
             break;
@@ -246,62 +283,92 @@ pub fn run(
                 range: reading.range as f32,
                 bearing: reading.bearing as f32,
             };
-            let rel = est.reliability.clamp(0.0, 1.0);
-            match object_grid(locs[r].grid_now(), rel, obs, cfg) {
-                Ok(g) => {
-                    cells = g.values().len();
-                    sightings.push(Sighting {
-                        t,
-                        observer: me,
-                        object: reading.subject,
-                        reading: obs,
-                        self_error: est.error,
-                        self_reliability: rel,
-                        object_estimate: g.centre_of_gravity(cfg.cog_cut),
-                        floor: g.floor(),
-                        code: g.to_rle(),
-                    });
-                }
-                Err(_) => rejected += 1,
-            }
+            sight(
+                &mut seen,
+                &mut locs[r],
+                &est,
+                (t, me, reading.subject),
+                obs,
+                cfg,
+            );
         }
     }
-    let geometry = locs.first().map(|l| super::GridGeometry::of(l.grid()));
+    seen
+}
+
+/// Records one sighting of `object` by `observer` at `t`, or counts it rejected.
+fn sight(
+    seen: &mut Seen,
+    loc: &mut GridLocalizer,
+    est: &FrameEstimate,
+    (t, observer, object): (f64, u32, u32),
+    obs: ObjectReading,
+    cfg: &CoopConfig,
+) {
+    let rel = est.reliability.clamp(0.0, 1.0);
+    match object_grid(loc.grid_now(), rel, obs, cfg) {
+        Ok(g) => {
+            seen.cells = g.values().len();
+            seen.sightings.push(Sighting {
+                t,
+                observer,
+                object,
+                reading: obs,
+                self_error: est.error,
+                self_reliability: rel,
+                object_estimate: g.centre_of_gravity(cfg.cog_cut),
+                floor: g.floor(),
+                code: g.to_rle(),
+            });
+        }
+        Err(_) => seen.rejected += 1,
+    }
+}
+
+/// Groups and scores the sightings per object (in robot order) and over all objects.
+fn score_all(
+    logs: &[RobotTrack<'_>],
+    objects: &[u32],
+    seen: &Seen,
+    geometry: Option<super::GridGeometry>,
+    cfg: &CoopConfig,
+) -> Report {
     let mut per_object = Vec::new();
     let mut all_events = Vec::new();
     let mut all_unscored = 0;
-    let mut sorted_objects = objects.clone();
+    let mut sorted_objects = objects.to_vec();
     sorted_objects.sort_unstable();
     sorted_objects.dedup();
     for &object in &sorted_objects {
-        let seen: Vec<&Sighting> = sightings.iter().filter(|s| s.object == object).collect();
-        let truth = logs
+        let mine: Vec<&Sighting> = seen
+            .sightings
             .iter()
-            .find(|l| l.robot == object)
-            .map(|l| &l.truth[..]);
+            .filter(|s| s.object == object)
+            .collect();
+        let truth = logs.iter().find(|l| l.robot == object).map(|l| l.truth);
         let (events, unscored) = match (geometry, truth) {
-            (Some(geo), Some(truth)) => score_object(&seen, truth, geo, cfg),
+            (Some(geo), Some(truth)) => score_object(&mine, truth, geo, cfg),
             _ => (Vec::new(), 0),
         };
-        per_object.push(summarise(Some(object), seen.len(), &events, unscored));
+        per_object.push(summarise(Some(object), mine.len(), &events, unscored));
         all_unscored += unscored;
         all_events.extend(events);
     }
-    let overall = summarise(None, sightings.len(), &all_events, all_unscored);
+    let overall = summarise(None, seen.sightings.len(), &all_events, all_unscored);
     let lost: Vec<EventScore> = all_events
         .iter()
         .filter(|e| e.self_errors.iter().any(|&x| x > cfg.lost_self_error))
         .cloned()
         .collect();
     let with_lost_observer = summarise(None, 0, &lost, 0);
-    Ok(Report {
+    Report {
         per_object,
         overall,
         with_lost_observer,
         events: all_events,
-        cells,
-        rejected_sightings: rejected,
-    })
+        cells: seen.cells,
+        rejected_sightings: seen.rejected,
+    }
 }
 
 /// Groups one object's sightings (time-ordered) into events and scores them; returns the

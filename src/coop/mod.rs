@@ -7,7 +7,8 @@
 //! and against plain and reliability-weighted averages, as paper 002's tables do.
 //!
 //! May depend on: [`crate::grid`] (self grids, trapezoids, sensor models), [`crate::localize`]
-//! (the one per-frame driver), [`crate::io::mrclam`] (frames, truth). It does no I/O.
+//! (the one per-frame driver, frames, truth tracks). It does no I/O: the caller reads the
+//! dataset and hands [`experiment::run`] borrowed [`experiment::RobotTrack`]s.
 
 pub mod config;
 pub mod experiment;
@@ -32,14 +33,14 @@ pub enum CoopError {
         reason: &'static str,
     },
     /// The RON text of a configuration does not parse.
-    #[error("cooperative configuration, line {line} column {column}: {message}")]
+    #[error("cooperative configuration, line {line} column {column}: {problem}")]
     Ron {
         /// 1-based line.
         line: usize,
         /// 1-based column.
         column: usize,
-        /// The parser's message.
-        message: String,
+        /// What is wrong there (an unknown key names the nearest known one).
+        problem: crate::core::config::RonProblem,
     },
     /// An observation of the object is not usable.
     #[error("object observation: {what} is {value} (must be finite{extra})")]

@@ -1,7 +1,9 @@
 //! Angle wrapping: one convention, the half-open interval (−π, π] (degrees: (−180, 180]).
 //!
 //! A heading difference of exactly half a turn is reported as +π, never −π, so that two
-//! components computing the same angle agree to the bit.
+//! components computing the same angle agree to the bit. [`wrap_pi_f32`] is the single-precision
+//! form the grid's inner loops use: most of its inputs are differences of wrapped angles, so it
+//! tries two compares before any division.
 
 use std::f64::consts::{PI, TAU};
 
@@ -26,6 +28,34 @@ pub fn wrap_180(a: f64) -> f64 {
     } else {
         w
     }
+}
+
+/// `a` (radians, `f32`) wrapped into (−π, π]. Non-finite input is returned unchanged so the
+/// caller's validation sees it.
+#[inline]
+pub fn wrap_pi_f32(a: f32) -> f32 {
+    use std::f32::consts::PI;
+    const TAU: f32 = 2.0 * PI;
+    // Most inputs are differences of wrapped angles: two compares beat fmod.
+    if a > -PI && a <= PI {
+        return a;
+    }
+    if a > PI && a <= 3.0 * PI {
+        return a - TAU;
+    }
+    if a <= -PI && a > -3.0 * PI {
+        return a + TAU;
+    }
+    if !a.is_finite() {
+        return a;
+    }
+    let mut r = a % TAU; // in (-2π, 2π)
+    if r > PI {
+        r -= TAU;
+    } else if r <= -PI {
+        r += TAU;
+    }
+    r
 }
 
 #[cfg(test)]
@@ -57,6 +87,21 @@ mod tests {
             let turns = (d - wd) / 360.0;
             assert!((turns - turns.round()).abs() < 1e-9, "{d} -> {wd}");
         }
+    }
+
+    #[test]
+    fn f32_form_is_in_range_and_equivalent() {
+        use std::f32::consts::{PI, TAU};
+        for k in -20..20 {
+            let a = k as f32 * 0.77;
+            let w = wrap_pi_f32(a);
+            assert!(w > -PI - 1e-6 && w <= PI + 1e-6, "{a} -> {w}");
+            assert!(((a - w) / TAU - ((a - w) / TAU).round()).abs() < 1e-4);
+        }
+        assert_eq!(wrap_pi_f32(PI), PI);
+        assert_eq!(wrap_pi_f32(-PI), PI);
+        assert!(wrap_pi_f32(f32::NAN).is_nan());
+        assert_eq!(wrap_pi_f32(f32::INFINITY), f32::INFINITY);
     }
 
     #[test]

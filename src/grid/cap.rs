@@ -118,7 +118,7 @@ impl FuzzyGrid {
             }
         }
         // -1 marks "in no region yet".
-        self.scratch.fill(-1.0);
+        self.work.plane.fill(-1.0);
         for (k, (r, v)) in regions.iter().enumerate() {
             let [x0, y0, x1, y1] = r.check(k)?;
             let s = self.cell;
@@ -132,13 +132,13 @@ impl FuzzyGrid {
                 for c in c0..c1.min(self.nx) {
                     let (px, py) = self.cell_center(c, j);
                     if r.contains(px, py) {
-                        let cell = &mut self.scratch[j * self.nx + c];
+                        let cell = &mut self.work.plane[j * self.nx + c];
                         *cell = cell.max(*v);
                     }
                 }
             }
         }
-        for (h, &c) in self.h.iter_mut().zip(&self.scratch) {
+        for (h, &c) in self.h.iter_mut().zip(&self.work.plane) {
             let cap = if c < 0.0 { outside } else { c };
             *h = h.min(cap);
         }

@@ -3,8 +3,11 @@
 //! bookkeeping shared by the update, prediction and estimate modules.
 //!
 //! Planes are flat `Vec<f32>` in row-major order (`index = row · nx + col`,
-//! row 0 at `y_min`), so every pass is a linear sweep; scratch buffers are
-//! allocated once here so that stepping allocates nothing.
+//! row 0 at `y_min`), so every pass is a linear sweep. The grid's state is
+//! visible to the `grid` module only (the files that implement its update,
+//! prediction and estimate); everything else goes through methods. Scratch
+//! buffers live in a separate [`Workspace`](super::workspace), allocated once here
+//! so that stepping allocates nothing.
 //!
 //! # Complexity
 //!
@@ -20,6 +23,7 @@
 //! ```
 
 use super::predict::Pending;
+use super::workspace::Workspace;
 use super::{GridConfig, GridError, Trapezoid};
 use std::f32::consts::PI;
 
@@ -29,32 +33,24 @@ pub const MAX_CELLS: usize = 64 << 20;
 /// The Fuzzy Position Grid of paper 000.
 #[derive(Debug, Clone)]
 pub struct FuzzyGrid {
-    pub(crate) cfg: GridConfig,
-    pub(crate) nx: usize,
-    pub(crate) ny: usize,
-    pub(crate) x0: f32,
-    pub(crate) y0: f32,
-    pub(crate) cell: f32,
+    pub(super) cfg: GridConfig,
+    pub(super) nx: usize,
+    pub(super) ny: usize,
+    pub(super) x0: f32,
+    pub(super) y0: f32,
+    pub(super) cell: f32,
     /// Possibility plane `G(x, y)`.
-    pub(crate) h: Vec<f32>,
+    pub(super) h: Vec<f32>,
     /// Heading set of each cell, stored with height 1 (its height is `h`).
-    pub(crate) theta: Vec<f32>,
-    pub(crate) delta: Vec<f32>,
-    pub(crate) alpha: Vec<f32>,
-    pub(crate) bias: Vec<f32>,
-    /// Scratch plane for dilation and shifting (same size as `h`).
-    pub(crate) scratch: Vec<f32>,
-    /// Scratch for the 1-D passes: one line of values (room for a padded
-    /// row of dilation blocks), and a deque of indices.
-    pub(crate) line: Vec<f32>,
-    pub(crate) line_out: Vec<f32>,
-    pub(crate) deque: Vec<u32>,
-    /// Chunk maxima and block bounds of the dilation's column and diagonal
-    /// passes.
-    pub(crate) cm: Vec<f32>,
-    pub(crate) pending: Pending,
+    pub(super) theta: Vec<f32>,
+    pub(super) delta: Vec<f32>,
+    pub(super) alpha: Vec<f32>,
+    pub(super) bias: Vec<f32>,
+    pub(super) pending: Pending,
     /// Height of the plane before the last normalisation.
-    pub(crate) last_height: f32,
+    pub(super) last_height: f32,
+    /// Scratch space of the passes: not part of the belief.
+    pub(super) work: Workspace,
 }
 
 impl FuzzyGrid {
@@ -80,7 +76,6 @@ impl FuzzyGrid {
         }
         let (nx, ny) = (nxf as usize, nyf as usize);
         let n = nx * ny;
-        let longest = nx.max(ny) + nx.min(ny); // a diagonal is never longer
         let mut g = FuzzyGrid {
             cell: cfg.cell_size,
             cfg,
@@ -93,13 +88,9 @@ impl FuzzyGrid {
             delta: vec![2.0 * PI; n],
             alpha: vec![0.0; n],
             bias: vec![1.0; n],
-            scratch: vec![0.0; n],
-            line: vec![0.0; longest.max(super::dilate::padded_row(nx))],
-            line_out: vec![0.0; longest.max(super::dilate::padded_row(nx) + 32)],
-            deque: vec![0; longest],
-            cm: vec![0.0; super::dilate::chunk_len(nx, ny)],
             pending: Pending::default(),
             last_height: 1.0,
+            work: Workspace::for_grid(nx, ny),
         };
         g.reset();
         Ok(g)
@@ -117,31 +108,38 @@ impl FuzzyGrid {
     }
 
     /// The configuration in use.
+    #[inline]
     pub fn config(&self) -> &GridConfig {
         &self.cfg
     }
     /// Number of columns (x direction).
+    #[inline]
     pub fn nx(&self) -> usize {
         self.nx
     }
     /// Number of rows (y direction).
+    #[inline]
     pub fn ny(&self) -> usize {
         self.ny
     }
     /// Cell side in metres.
+    #[inline]
     pub fn cell_size(&self) -> f32 {
         self.cell
     }
     /// Lower-left corner `(x_min, y_min)` of the grid.
+    #[inline]
     pub fn origin(&self) -> (f32, f32) {
         (self.x0, self.y0)
     }
     /// The possibility plane, row-major (`row · nx + col`, row 0 at `y_min`).
+    #[inline]
     pub fn possibilities(&self) -> &[f32] {
         &self.h
     }
     /// Mutable possibility plane, for callers that build priors. Values written
     /// outside [0, 1] (or NaN) are clamped (NaN → 0) by the next operation.
+    #[inline]
     pub fn possibilities_mut(&mut self) -> &mut [f32] {
         &mut self.h
     }
@@ -169,6 +167,7 @@ impl FuzzyGrid {
         }
     }
     /// Possibility of cell `(col, row)` (0 outside the grid).
+    #[inline]
     pub fn possibility(&self, col: usize, row: usize) -> f32 {
         if col < self.nx && row < self.ny {
             self.h[row * self.nx + col]
@@ -177,6 +176,7 @@ impl FuzzyGrid {
         }
     }
     /// Heading set of cell `(col, row)`, with the cell's possibility as height.
+    #[inline]
     pub fn heading_set(&self, col: usize, row: usize) -> Option<Trapezoid> {
         if col < self.nx && row < self.ny {
             let i = row * self.nx + col;
@@ -192,6 +192,7 @@ impl FuzzyGrid {
         }
     }
     /// Replaces the heading set of a cell (height ignored: it is the plane).
+    #[inline]
     pub fn set_heading_set(&mut self, col: usize, row: usize, t: Trapezoid) {
         if col < self.nx && row < self.ny {
             let i = row * self.nx + col;

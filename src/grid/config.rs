@@ -35,6 +35,7 @@ pub enum ElementShape {
 /// Widths grow with the reading (`core = core_abs + core_rel · |r|`, same for
 /// the flank) because camera range errors grow with distance.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct SensorModel {
     /// Constant part of the core width Δ (metres or radians).
     pub core_abs: f32,
@@ -81,7 +82,7 @@ impl SensorModel {
 
 /// All parameters of the grid, its update, prediction and estimate.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct GridConfig {
     /// Side of a square cell in metres. Default 0.1 (paper 000 uses 10 cm).
     pub cell_size: f32,
@@ -152,7 +153,7 @@ pub struct GridConfig {
     /// Reliability from which the estimate counts as a *fix*. Default 0.5.
     pub fix_reliability: f32,
     /// Shortest time (s) between two readings of the same landmark that the
-    /// driver ([`crate::grid::run`]) feeds to the grid; readings in between
+    /// driver (in `localize`, a layer above) feeds to the grid; readings in between
     /// are skipped. A camera rereads the same landmark several times a second
     /// with the same error, and the product update assumes independent
     /// readings: without thinning, one biased landmark counts many times.
@@ -205,10 +206,10 @@ impl Default for GridConfig {
 impl GridConfig {
     /// Parses a RON document (missing fields take their defaults) and checks it.
     pub fn from_ron(text: &str) -> Result<Self, GridError> {
-        let cfg: GridConfig = ron::from_str(text).map_err(|e| GridError::Ron {
-            line: e.position.line,
-            column: e.position.col,
-            message: e.code.to_string(),
+        let cfg: GridConfig = crate::core::config::from_ron(text).map_err(|e| GridError::Ron {
+            line: e.line,
+            column: e.column,
+            problem: e.problem,
         })?;
         cfg.validate()?;
         Ok(cfg)
@@ -274,5 +275,39 @@ impl GridConfig {
         self.range.validate("range")?;
         self.bearing.validate("bearing")?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_unknown_keys_and_defaults_omitted_ones() {
+        let ok = GridConfig::from_ron("(cell_size: 0.2)").unwrap();
+        assert_eq!(ok.cell_size, 0.2);
+        assert_eq!(ok.floor, GridConfig::default().floor);
+        for text in [
+            "(cell_size: 0.2, totally_bogus_field: 1)",
+            "(range: (core_abs: 0.1, core_rel: 0.0, slope_abs: 0.1, slope_rel: 0.0, bias: 0.1, \
+             totally_bogus_field: 1))",
+        ] {
+            match GridConfig::from_ron(text) {
+                Err(GridError::Ron { problem, line, .. }) => {
+                    let message = problem.to_string();
+                    assert!(message.contains("totally_bogus_field"), "{message}");
+                    assert_eq!(line, 1);
+                }
+                other => panic!("{text}: {other:?}"),
+            }
+        }
+        // A misspelt key names the one meant.
+        match GridConfig::from_ron("(cell_sise: 0.2)") {
+            Err(GridError::Ron {
+                problem: crate::core::config::RonProblem::UnknownKey { key, nearest, .. },
+                ..
+            }) => assert_eq!((key.as_str(), nearest), ("cell_sise", Some("cell_size"))),
+            other => panic!("{other:?}"),
+        }
     }
 }

@@ -5,11 +5,12 @@
 //! observations intersect the grid ([`observe`]), motion blurs it by fuzzy
 //! dilation ([`dilate`], [`predict`]), and the estimate is a centre of gravity
 //! with a reliability ([`estimate`]). [`cap`] lets the place engine bound the
-//! cells of each place by that place's possibility, and [`run`] drives the
-//! whole cycle over a recorded stream and scores it against ground truth.
+//! cells of each place by that place's possibility, and [`place`] refines a
+//! place decision to a pose. Driving the grid over a recorded stream and
+//! scoring it is the job of `localize`, a layer above.
 //!
-//! This module depends only on `serde`/`ron`/`thiserror` and on
-//! [`crate::io::mrclam::MetricFrame`] (in [`run`]); it never does I/O.
+//! May depend on: `core` (angle wrapping), `map` (place extents, landmarks);
+//! besides `serde`/`ron`/`thiserror`. It never does I/O.
 
 pub mod cap;
 pub mod cells;
@@ -19,16 +20,17 @@ pub mod estimate;
 pub mod observe;
 pub mod place;
 pub mod predict;
-pub mod run;
 pub mod trapezoid;
+mod workspace;
 
 pub use cap::Region;
 pub use cells::FuzzyGrid;
 pub use config::{Combine, ElementShape, GridConfig, SensorModel};
 pub use estimate::Estimate;
 pub use observe::{Landmark, LandmarkTable, Observation};
+pub use place::LandmarkTruth;
 pub use predict::Motion;
-pub use trapezoid::{wrap_pi, Trapezoid};
+pub use trapezoid::Trapezoid;
 
 /// Everything that can go wrong in the grid layer. Variants carry the
 /// offending data; nothing here panics on bad input.
@@ -43,14 +45,14 @@ pub enum GridError {
         reason: &'static str,
     },
     /// The RON text of a configuration does not parse.
-    #[error("grid configuration, line {line} column {column}: {message}")]
+    #[error("grid configuration, line {line} column {column}: {problem}")]
     Ron {
         /// 1-based line.
         line: usize,
         /// 1-based column.
         column: usize,
-        /// The parser's message.
-        message: String,
+        /// What is wrong there (an unknown key names the nearest known one).
+        problem: crate::core::config::RonProblem,
     },
     /// The requested extent would need too many cells.
     #[error("grid of {nx}×{ny} cells exceeds the limit of {limit} cells")]

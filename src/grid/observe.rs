@@ -344,7 +344,7 @@ fn next_run(ds: &[f32], from: usize) -> (usize, usize) {
     (start, c)
 }
 
-/// [`super::wrap_pi`] for `a` in (−3π, 3π], with selects: there it takes the
+/// [`crate::core::angle::wrap_pi_f32`] for `a` in (−3π, 3π], with selects: there it takes the
 /// same two branches and gives the same floats.
 #[inline(always)]
 fn wrap_near(a: f32) -> f32 {
@@ -424,62 +424,13 @@ fn bearing_cell(
     o: ObsSet,
 ) -> (f32, f32, f32, f32, f32) {
     let d = wrap_near(oc - theta);
-    let ad = d.abs();
-    // Overlap level t (`Trapezoid::overlap_level_at`, heights 1).
-    let wa_raw = 0.5 * delta + alpha;
-    let wa_inf = wa_raw >= PI;
-    // Cell support covers the circle: level where its cut still does.
-    let hw1 = 0.5 * delta + alpha * 0.0;
-    let lvl_raw = 1.0 - (PI - 0.5 * delta) / if alpha > 0.0 { alpha } else { 1.0 };
-    let lvl_raw = fmax(fmin(lvl_raw, 1.0), 0.0);
-    let la = if hw1 >= PI || alpha <= 0.0 {
-        1.0
-    } else {
-        lvl_raw
-    };
-    let t_inf = fmax(fmin(fmin(la, 1.0), 1.0), 0.0);
-    let reach = wa_raw + o.w0 - ad;
-    let rate = alpha + o.slope;
-    let cores = 0.5 * (delta + o.core) - ad;
-    let by_rate = fmax(fmin(reach / if rate > 0.0 { rate } else { 1.0 }, 1.0), 0.0);
-    let t_fin = if reach < 0.0 {
-        0.0
-    } else if cores >= 0.0 {
-        1.0
-    } else if rate > 0.0 {
-        by_rate
-    } else {
-        0.0
-    };
-    let t = if wa_inf { t_inf } else { t_fin };
+    let t = overlap_level(d.abs(), delta, alpha, o);
     let cons = fmax(
         fmax(fmax(t, fmin(ba, o.bias)), fmin(ba, 1.0)),
         fmin(1.0, o.bias),
     );
-    // Overlapping (`t > 0`): inner envelope.
-    let inf_if = |w: f32| if w >= PI { f32::INFINITY } else { w };
-    let ha_t = inf_if(0.5 * delta + alpha * (1.0 - t));
-    let hb_t = inf_if(0.5 * o.core + o.slope * (1.0 - t));
-    let wa = inf_if(wa_raw);
-    let c_lo = fmax(0.0 - ha_t, d - hb_t);
-    let c_hi = fmin(0.0 + ha_t, d + hb_t);
-    let s_lo = fmax(0.0 - wa, d - o.w0);
-    let s_hi = fmin(0.0 + wa, d + o.w0);
-    let c_hi = fmax(c_hi, c_lo);
-    let fl_in = fmax(fmin(c_lo - s_lo, s_hi - c_hi), 0.0);
-    let fl_in = if fl_in.abs() < f32::INFINITY {
-        fl_in
-    } else {
-        2.0 * PI
-    };
-    // Disjoint (`t = 0`): outer envelope.
-    let wa2 = 0.5 * delta;
-    let wb2 = 0.5 * o.core;
-    let e_lo = fmin(-wa2, d - wb2);
-    let e_hi = fmax(wa2, d + wb2);
-    let es_lo = fmin(-wa2 - alpha, d - wb2 - o.slope);
-    let es_hi = fmax(wa2 + alpha, d + wb2 + o.slope);
-    let fl_out = fmax(fmax(e_lo - es_lo, es_hi - e_hi), 0.0);
+    let (c_lo, c_hi, fl_in) = inner_envelope(d, delta, alpha, t, o);
+    let (e_lo, e_hi, fl_out) = outer_envelope(d, delta, alpha, o);
     let inner = t > 0.0;
     let (lo, hi, fl) = if inner {
         (c_lo, c_hi, fl_in)
@@ -508,6 +459,166 @@ fn bearing_cell(
         (oc, o.core, o.slope, ba * o.bias, 1.0)
     } else {
         (center, n_delta, n_alpha, n_bias, cons)
+    }
+}
+
+/// [`bearing_cell`]'s overlap level `t` of the cell's set (`delta`,
+/// `alpha`, height 1) and the observation's at centre distance `ad`
+/// (`Trapezoid::overlap_level_at`, heights 1), as selects.
+#[inline(always)]
+fn overlap_level(ad: f32, delta: f32, alpha: f32, o: ObsSet) -> f32 {
+    let wa_raw = 0.5 * delta + alpha;
+    let wa_inf = wa_raw >= PI;
+    // Cell support covers the circle: level where its cut still does.
+    let hw1 = 0.5 * delta + alpha * 0.0;
+    let lvl_raw = 1.0 - (PI - 0.5 * delta) / if alpha > 0.0 { alpha } else { 1.0 };
+    let lvl_raw = fmax(fmin(lvl_raw, 1.0), 0.0);
+    let la = if hw1 >= PI || alpha <= 0.0 {
+        1.0
+    } else {
+        lvl_raw
+    };
+    let t_inf = fmax(fmin(fmin(la, 1.0), 1.0), 0.0);
+    let reach = wa_raw + o.w0 - ad;
+    let rate = alpha + o.slope;
+    let cores = 0.5 * (delta + o.core) - ad;
+    let by_rate = fmax(fmin(reach / if rate > 0.0 { rate } else { 1.0 }, 1.0), 0.0);
+    let t_fin = if reach < 0.0 {
+        0.0
+    } else if cores >= 0.0 {
+        1.0
+    } else if rate > 0.0 {
+        by_rate
+    } else {
+        0.0
+    };
+    if wa_inf {
+        t_inf
+    } else {
+        t_fin
+    }
+}
+
+/// [`bearing_cell`]'s inner envelope (overlapping sets, `t > 0`): the core
+/// `(lo, hi)` relative to the cell's centre and the flank, as selects.
+#[inline(always)]
+fn inner_envelope(d: f32, delta: f32, alpha: f32, t: f32, o: ObsSet) -> (f32, f32, f32) {
+    let wa_raw = 0.5 * delta + alpha;
+    let inf_if = |w: f32| if w >= PI { f32::INFINITY } else { w };
+    let ha_t = inf_if(0.5 * delta + alpha * (1.0 - t));
+    let hb_t = inf_if(0.5 * o.core + o.slope * (1.0 - t));
+    let wa = inf_if(wa_raw);
+    let c_lo = fmax(0.0 - ha_t, d - hb_t);
+    let c_hi = fmin(0.0 + ha_t, d + hb_t);
+    let s_lo = fmax(0.0 - wa, d - o.w0);
+    let s_hi = fmin(0.0 + wa, d + o.w0);
+    let c_hi = fmax(c_hi, c_lo);
+    let fl_in = fmax(fmin(c_lo - s_lo, s_hi - c_hi), 0.0);
+    let fl_in = if fl_in.abs() < f32::INFINITY {
+        fl_in
+    } else {
+        2.0 * PI
+    };
+    (c_lo, c_hi, fl_in)
+}
+
+/// [`bearing_cell`]'s outer envelope (disjoint sets, `t = 0`): the core
+/// `(lo, hi)` relative to the cell's centre and the flank.
+#[inline(always)]
+fn outer_envelope(d: f32, delta: f32, alpha: f32, o: ObsSet) -> (f32, f32, f32) {
+    let wa2 = 0.5 * delta;
+    let wb2 = 0.5 * o.core;
+    let e_lo = fmin(-wa2, d - wb2);
+    let e_hi = fmax(wa2, d + wb2);
+    let es_lo = fmin(-wa2 - alpha, d - wb2 - o.slope);
+    let es_hi = fmax(wa2 + alpha, d + wb2 + o.slope);
+    let fl_out = fmax(fmax(e_lo - es_lo, es_hi - e_hi), 0.0);
+    (e_lo, e_hi, fl_out)
+}
+
+/// The observed heading of every cell of a row that the bearing pass
+/// intersects, into `ocs`: runs of cells ([`next_run`]) — whole blocks of
+/// [`LANES`] cells that hold a known heading, and the cells after the last
+/// whole block. The blocks in between hold unknown headings only (Δ ≥ 2π:
+/// most of a grid after a few products, see the floor in `Settle`).
+/// `(x0, s, lx, dy)`: the grid's left edge, cell size, the landmark's x and
+/// its y offset from the row.
+#[inline(always)]
+fn observed_headings(
+    ocs: &mut [f32],
+    ds: &[f32],
+    (x0, s, lx, dy): (f32, f32, f32, f32),
+    bearing: f32,
+) {
+    let n = ds.len();
+    let mut c = 0;
+    while c < n {
+        let (a, b) = next_run(ds, c);
+        for (i, oc) in ocs[a..b].iter_mut().enumerate() {
+            let dx = lx - (x0 + (col_f(a + i) + 0.5) * s);
+            *oc = wrap_near(atan2_sel(dy, dx) - bearing);
+        }
+        c = b;
+    }
+}
+
+/// The range factor of every cell of a row into `fs` (1 without `RANGE`).
+/// It is exactly the bias outside the annulus (as in `range_pass`): evaluate
+/// it only on the annulus. Arguments as in [`observed_headings`].
+#[inline(always)]
+fn range_factors<const RANGE: bool>(
+    fs: &mut [f32],
+    rt: &Trapezoid,
+    (x0, s, lx, dy): (f32, f32, f32, f32),
+) {
+    if !RANGE {
+        fs.fill(1.0);
+        return;
+    }
+    let n = fs.len();
+    let w = 0.5 * rt.core + rt.slope;
+    let r_out = rt.center + w;
+    let r_in = (rt.center - w).max(0.0);
+    fs.fill(rt.bias);
+    if dy.abs() <= r_out {
+        let (c_lo, c_hi, h_lo, h_hi) = annulus_cols(x0, s, n, lx, dy, r_out, r_in);
+        for (a, b) in [(c_lo, h_lo), (h_hi, c_hi)] {
+            for (c, f) in fs[a..b].iter_mut().enumerate() {
+                let dx = lx - (x0 + (col_f(a + c) + 0.5) * s);
+                *f = range_member(rt, (dx * dx + dy * dy).sqrt());
+            }
+        }
+    }
+}
+
+/// The kept pending cells' θ (the observed heading) and α (the
+/// observation's slope) of a row after the bearing settle, over runs of
+/// cells with a mark in `kept`. Arguments as in [`observed_headings`].
+#[inline(always)]
+fn kept_headings(
+    kept: &[f32],
+    ts: &mut [f32],
+    als: &mut [f32],
+    (x0, s, lx, dy): (f32, f32, f32, f32),
+    bearing: f32,
+    slope: f32,
+) {
+    let nx = kept.len();
+    let mut c = 0;
+    while c < nx {
+        if kept[c] == 0.0 {
+            c += 1;
+            continue;
+        }
+        let start = c;
+        while c < nx && kept[c] != 0.0 {
+            c += 1;
+        }
+        for i in start..c {
+            let dx = lx - (x0 + (col_f(i) + 0.5) * s);
+            ts[i] = wrap_near(atan2_sel(dy, dx) - bearing);
+            als[i] = slope;
+        }
     }
 }
 
@@ -747,10 +858,10 @@ impl FuzzyGrid {
             delta,
             alpha,
             bias,
-            line,
+            work,
             ..
         } = self;
-        let kept = &mut line[..nx];
+        let kept = &mut work.line[..nx];
         for j in 0..self.ny {
             let r = j * nx..(j + 1) * nx;
             // Every cell settled, the pending ones with the observation's
@@ -806,25 +917,9 @@ impl FuzzyGrid {
             if !any {
                 continue;
             }
-            // The kept pending cells' θ and α, over runs of cells holding one.
             let dy = ly - (y0 + (j as f32 + 0.5) * s);
             let (ts, als) = (&mut theta[r.clone()], &mut alpha[r]);
-            let mut c = 0;
-            while c < nx {
-                if kept[c] == 0.0 {
-                    c += 1;
-                    continue;
-                }
-                let start = c;
-                while c < nx && kept[c] != 0.0 {
-                    c += 1;
-                }
-                for i in start..c {
-                    let dx = lx - (x0 + (col_f(i) + 0.5) * s);
-                    ts[i] = wrap_near(atan2_sel(dy, dx) - bearing);
-                    als[i] = obs.slope;
-                }
-            }
+            kept_headings(kept, ts, als, (x0, s, lx, dy), bearing, obs.slope);
         }
         self.last_height
     }
@@ -866,8 +961,7 @@ impl FuzzyGrid {
             delta,
             alpha,
             bias,
-            line,
-            line_out,
+            work,
             ..
         } = self;
         let hs = &mut h[lo..lo + n];
@@ -875,41 +969,10 @@ impl FuzzyGrid {
         let ds = &mut delta[lo..lo + n];
         let als = &mut alpha[lo..lo + n];
         let bs = &mut bias[lo..lo + n];
-        let ocs = &mut line[..n];
-        let fs = &mut line_out[..n];
-        // Runs of cells to intersect: whole blocks of LANES cells that hold
-        // a known heading, and the cells after the last whole block. The
-        // blocks in between hold unknown headings only (Δ ≥ 2π: most of a
-        // grid after a few products, see the floor in `Settle`).
-        // Their observed headings.
-        let mut c = 0;
-        while c < n {
-            let (a, b) = next_run(ds, c);
-            for (i, oc) in ocs[a..b].iter_mut().enumerate() {
-                let dx = lx - (x0 + (col_f(a + i) + 0.5) * s);
-                *oc = wrap_near(atan2_sel(dy, dx) - bearing);
-            }
-            c = b;
-        }
-        if RANGE {
-            // The range factor is exactly the bias outside the annulus (as
-            // in `range_pass`): evaluate it only on the annulus.
-            let w = 0.5 * rt.core + rt.slope;
-            let r_out = rt.center + w;
-            let r_in = (rt.center - w).max(0.0);
-            fs.fill(rt.bias);
-            if dy.abs() <= r_out {
-                let (c_lo, c_hi, h_lo, h_hi) = annulus_cols(x0, s, n, lx, dy, r_out, r_in);
-                for (a, b) in [(c_lo, h_lo), (h_hi, c_hi)] {
-                    for (c, f) in fs[a..b].iter_mut().enumerate() {
-                        let dx = lx - (x0 + (col_f(a + c) + 0.5) * s);
-                        *f = range_member(&rt, (dx * dx + dy * dy).sqrt());
-                    }
-                }
-            }
-        } else {
-            fs.fill(1.0);
-        }
+        let ocs = &mut work.line[..n];
+        let fs = &mut work.line_out[..n];
+        observed_headings(ocs, ds, (x0, s, lx, dy), bearing);
+        range_factors::<RANGE>(fs, &rt, (x0, s, lx, dy));
         // The unknown blocks between runs: consistency 1, and the set waits
         // for the settle pass (PENDING). The runs: every cell through the
         // intersection, in one loop over slices (the form the compiler
@@ -961,7 +1024,7 @@ impl FuzzyGrid {
                 None => 1.0,
             };
             let mut o = obs;
-            o.center = super::wrap_pi(fast_atan2(dy, dx) - bearing);
+            o.center = crate::core::angle::wrap_pi_f32(fast_atan2(dy, dx) - bearing);
             if self.delta[i] >= 2.0 * PI {
                 // Heading unknown: the intersection is the observation's
                 // set and the consistency is 1 (exactly what
@@ -1202,7 +1265,8 @@ mod tests {
                 if x == 0.0 && y == 0.0 {
                     continue;
                 }
-                worst = worst.max(super::super::wrap_pi(fast_atan2(y, x) - y.atan2(x)).abs());
+                worst =
+                    worst.max(crate::core::angle::wrap_pi_f32(fast_atan2(y, x) - y.atan2(x)).abs());
             }
         }
         assert!(worst < 2e-5, "worst error {worst}");

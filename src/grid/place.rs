@@ -37,8 +37,24 @@
 //! ```
 
 use super::{FuzzyGrid, GridError, Landmark, LandmarkTable, Region, SensorModel};
-use crate::io::mrclam::LandmarkTruth;
 use crate::map::{Extent, Map};
+use serde::{Deserialize, Serialize};
+
+/// A surveyed landmark with the survey's uncertainty (e.g. MRCLAM's `Landmark_Groundtruth.dat`),
+/// the input of [`survey_landmarks`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LandmarkTruth {
+    /// Subject id (6–20).
+    pub subject: u32,
+    /// x (m).
+    pub x: f64,
+    /// y (m).
+    pub y: f64,
+    /// Standard deviation of x (m).
+    pub x_std: f64,
+    /// Standard deviation of y (m).
+    pub y_std: f64,
+}
 
 /// The map's places as cap regions, in place order.
 pub fn place_regions(map: &Map) -> Vec<Region> {

@@ -127,6 +127,16 @@ impl FuzzyGrid {
         Ok(())
     }
 
+    /// Widens every cell's heading core by `by` radians (paper 000: the
+    /// prediction "increases the Δ values by a constant").
+    pub fn widen_headings(&mut self, by: f32) {
+        if by.is_finite() && by > 0.0 {
+            for d in self.delta.iter_mut() {
+                *d = (*d + by).min(2.0 * PI);
+            }
+        }
+    }
+
     /// Applies the accumulated motion (see the module docs). Called by every
     /// update; call it yourself before [`FuzzyGrid::estimate`] to see the
     /// predicted belief.
@@ -209,7 +219,7 @@ impl FuzzyGrid {
     fn turn_headings(&mut self, by: f32) {
         if by != 0.0 {
             for t in self.theta.iter_mut() {
-                *t = super::wrap_pi(*t + by);
+                *t = crate::core::angle::wrap_pi_f32(*t + by);
             }
         }
     }
@@ -229,7 +239,7 @@ impl FuzzyGrid {
             (&mut self.bias, 1.0),
         ];
         for (plane, fill) in planes {
-            self.scratch.fill(fill);
+            self.work.plane.fill(fill);
             for j in 0..ny {
                 let tj = j + sy;
                 if tj < 0 || tj >= ny {
@@ -243,9 +253,9 @@ impl FuzzyGrid {
                 let src = (j * nx + c_lo) as usize..(j * nx + c_hi) as usize;
                 let dst = (tj * nx + c_lo + sx) as usize;
                 let len = (c_hi - c_lo) as usize;
-                self.scratch[dst..dst + len].copy_from_slice(&plane[src]);
+                self.work.plane[dst..dst + len].copy_from_slice(&plane[src]);
             }
-            std::mem::swap(plane, &mut self.scratch);
+            std::mem::swap(plane, &mut self.work.plane);
         }
     }
 }

@@ -11,8 +11,10 @@
 //!   width of each flank, over which the membership falls linearly from `height`
 //!   to zero (α = 0 gives a rectangle). The paper names α "the slope"; storing
 //!   the flank width instead of a gradient keeps the rectangle case finite.
-//! * The bias `b` is a uniform floor: `μ(x) = max(b, h · ramp(x))`. It is the
-//!   possibility that the reading is an outlier ("the actual value is
+//! * The bias `b` is a uniform floor: `μ(x) = max(b, h · f(x))`
+//!   ([`BiasRule::Floor`], [`Trapezoid::BIAS_RULE`]; the rule engine's
+//!   similarities read it the other way, see [`crate::core::trapezoid`]). It
+//!   is the possibility that the reading is an outlier ("the actual value is
 //!   somewhere else").
 //! * Angles are radians; every angular distance is taken the short way round,
 //!   so sets wrap around 2π.
@@ -32,36 +34,12 @@
 //! assert!(c.center > 0.0 && c.center < 0.25);
 //! ```
 
+use crate::core::angle::wrap_pi_f32 as wrap_pi;
+use crate::core::trapezoid::BiasRule;
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
 
 const TAU: f32 = 2.0 * PI;
-
-/// Wraps an angle into `(-π, π]`. Non-finite input is returned unchanged so the
-/// caller's validation sees it.
-#[inline]
-pub fn wrap_pi(a: f32) -> f32 {
-    // Most inputs are differences of wrapped angles: two compares beat fmod.
-    if a > -PI && a <= PI {
-        return a;
-    }
-    if a > PI && a <= 3.0 * PI {
-        return a - TAU;
-    }
-    if a <= -PI && a > -3.0 * PI {
-        return a + TAU;
-    }
-    if !a.is_finite() {
-        return a;
-    }
-    let mut r = a % TAU; // in (-2π, 2π)
-    if r > PI {
-        r -= TAU;
-    } else if r <= -PI {
-        r += TAU;
-    }
-    r
-}
 
 /// A trapezoidal fuzzy set `⟨center, core, slope, height, bias⟩`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -110,14 +88,18 @@ impl Trapezoid {
         }
     }
 
-    /// Trapezoid part only (no bias) at a distance `u ≥ 0` from the centre.
+    /// How the bias enters: `μ = max(b, h·f)`.
+    pub const BIAS_RULE: BiasRule = BiasRule::Floor;
+
+    /// The trapezoid part's shape `f` (1 on the core, falling to 0 over the
+    /// flank, 0 outside the support) at a distance `u ≥ 0` from the centre.
     #[inline]
-    fn ramp(&self, u: f32) -> f32 {
+    fn shape(&self, u: f32) -> f32 {
         let half = 0.5 * self.core;
         if u <= half {
-            self.height
+            1.0
         } else if self.slope > 0.0 && u < half + self.slope {
-            self.height * (1.0 - (u - half) / self.slope)
+            1.0 - (u - half) / self.slope
         } else {
             0.0 // also reached by NaN `u`
         }
@@ -126,13 +108,15 @@ impl Trapezoid {
     /// Membership of a value on the real line (ranges). NaN gives the bias.
     #[inline]
     pub fn linear(&self, x: f32) -> f32 {
-        self.ramp((x - self.center).abs()).max(self.bias)
+        let f = self.shape((x - self.center).abs());
+        Self::BIAS_RULE.apply_f32(f, self.height, self.bias)
     }
 
     /// Membership of an angle, measured the short way round the circle.
     #[inline]
     pub fn angular(&self, phi: f32) -> f32 {
-        self.ramp(wrap_pi(phi - self.center).abs()).max(self.bias)
+        let f = self.shape(wrap_pi(phi - self.center).abs());
+        Self::BIAS_RULE.apply_f32(f, self.height, self.bias)
     }
 
     /// True when the set covers every heading at full height.
@@ -311,16 +295,6 @@ fn interval(c: f32, half: f32) -> (f32, f32) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn wrap_is_in_range() {
-        for k in -20..20 {
-            let a = k as f32 * 0.77;
-            let w = wrap_pi(a);
-            assert!(w > -PI - 1e-6 && w <= PI + 1e-6, "{a} -> {w}");
-            assert!(((a - w) / TAU - ((a - w) / TAU).round()).abs() < 1e-4);
-        }
-    }
 
     #[test]
     fn membership_shape() {

@@ -17,7 +17,7 @@
 //! it reads only the `BufRead` it is given.
 
 use crate::engine::{Frame, PerceptInstance};
-use crate::io::mrclam::MetricFrame;
+use crate::localize::MetricFrame;
 use crate::io::mrclam_stream::{Reading, RecordReader, BEARING, RANGE};
 use crate::io::stream::{FrameMeta, LineError, ReadOutcome, Schema, StreamReader};
 use crate::map::Map;

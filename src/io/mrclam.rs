@@ -31,6 +31,9 @@
 //! assert!((f.t - 10.5).abs() < 1e-9);
 //! ```
 
+use crate::core::{Odometry, Pose2};
+use crate::grid::LandmarkTruth;
+use crate::localize::{interpolate_truth, LandmarkReading, MetricFrame, TruthRow};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::io::BufRead;
@@ -134,21 +137,6 @@ pub struct Barcodes {
     pub subject_of: BTreeMap<u32, u32>,
 }
 
-/// A surveyed landmark (`Landmark_Groundtruth.dat`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct LandmarkTruth {
-    /// Subject id (6–20).
-    pub subject: u32,
-    /// x (m).
-    pub x: f64,
-    /// y (m).
-    pub y: f64,
-    /// Standard deviation of x (m).
-    pub x_std: f64,
-    /// Standard deviation of y (m).
-    pub y_std: f64,
-}
-
 /// `time v ω` row of `RobotN_Odometry.dat`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct OdometryRow {
@@ -182,68 +170,6 @@ pub struct Measurements {
     pub misread: usize,
     /// Those barcodes with their counts.
     pub misread_barcodes: BTreeMap<u32, usize>,
-}
-
-/// `time x y θ` row of `RobotN_Groundtruth.dat`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct TruthRow {
-    /// Time (s).
-    pub t: f64,
-    /// x (m).
-    pub x: f64,
-    /// y (m).
-    pub y: f64,
-    /// Heading (rad).
-    pub theta: f64,
-}
-
-/// A planar pose.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct Pose2 {
-    /// x (m).
-    pub x: f64,
-    /// y (m).
-    pub y: f64,
-    /// Heading (rad, in (−π, π]).
-    pub theta: f64,
-}
-
-/// Odometry integrated over a frame's interval, in the robot frame at its start.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct OdometryIncrement {
-    /// Displacement along the initial heading (m).
-    pub forward: f64,
-    /// Displacement to the initial left (m).
-    pub lateral: f64,
-    /// Rotation (rad).
-    pub turn: f64,
-    /// Length of the interval (s).
-    pub dt: f64,
-}
-
-/// One range + bearing reading of a subject.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct LandmarkReading {
-    /// Subject id (landmarks 6–20; robots 1–5 are kept for cooperative use).
-    pub subject: u32,
-    /// Range (m).
-    pub range: f64,
-    /// Bearing (rad).
-    pub bearing: f64,
-}
-
-/// One step of the metric stream: motion since the previous frame, what was
-/// seen at `t`, and where the robot truly was.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct MetricFrame {
-    /// Time (s).
-    pub t: f64,
-    /// Odometry since the previous frame.
-    pub odometry: OdometryIncrement,
-    /// Readings taken at `t`.
-    pub observations: Vec<LandmarkReading>,
-    /// Ground-truth pose interpolated at `t`, when available.
-    pub truth: Option<Pose2>,
 }
 
 /// How [`merge`] cuts the stream into frames.
@@ -425,43 +351,6 @@ pub fn read_groundtruth<R: BufRead>(r: R) -> Result<Vec<TruthRow>, MrclamError> 
     Ok(out)
 }
 
-fn wrap(a: f64) -> f64 {
-    let t = std::f64::consts::TAU;
-    let r = (a + std::f64::consts::PI).rem_euclid(t) - std::f64::consts::PI;
-    if r <= -std::f64::consts::PI {
-        r + t
-    } else {
-        r
-    }
-}
-
-/// Ground truth at `t`, linearly interpolated (heading the short way round);
-/// `None` outside the recording or across a gap longer than `max_gap`.
-pub fn interpolate_truth(truth: &[TruthRow], t: f64, max_gap: f64) -> Option<Pose2> {
-    let k = truth.partition_point(|r| r.t <= t);
-    if k == 0 {
-        return None;
-    }
-    let a = truth[k - 1];
-    if a.t == t || k == truth.len() {
-        return (a.t == t).then_some(Pose2 {
-            x: a.x,
-            y: a.y,
-            theta: wrap(a.theta),
-        });
-    }
-    let b = truth[k];
-    if b.t - a.t > max_gap {
-        return None;
-    }
-    let u = (t - a.t) / (b.t - a.t);
-    Some(Pose2 {
-        x: a.x + u * (b.x - a.x),
-        y: a.y + u * (b.y - a.y),
-        theta: wrap(a.theta + u * wrap(b.theta - a.theta)),
-    })
-}
-
 /// Integrates unicycle motion (`v`, `ω` held for `dt`) onto a pose expressed
 /// in the frame's start coordinates.
 fn integrate(p: &mut Pose2, v: f64, w: f64, dt: f64) {
@@ -483,30 +372,15 @@ fn integrate(p: &mut Pose2, v: f64, w: f64, dt: f64) {
 /// a longer gap (a corrupt timestamp) gets none.
 const MAX_FILLERS: f64 = 100_000.0;
 
-/// Merges one robot's odometry, measurements and truth into frames.
-///
-/// Frames fall on every distinct measurement time within the odometry's time
-/// span, plus odometry-only frames so that no two consecutive frames are more
-/// than `max_frame_gap` apart; the first frame is at the first odometry time.
-/// Each odometry row's `(v, ω)` holds until the next row (zero-order hold),
-/// and the motion between consecutive frames is integrated exactly for a
-/// unicycle. Measurements outside the odometry span are left out.
-pub fn merge(
-    odometry: &[OdometryRow],
-    meas: &[MeasurementRow],
-    truth: &[TruthRow],
-    opts: &MergeOptions,
-) -> Vec<MetricFrame> {
-    let (Some(first), Some(last)) = (odometry.first(), odometry.last()) else {
-        return Vec::new();
-    };
-    let (t0, t1) = (first.t, last.t);
-    let gap = if opts.max_frame_gap > 0.0 && opts.max_frame_gap.is_finite() {
-        opts.max_frame_gap
+/// The frame times of [`merge`]: `t0`, every distinct measurement time in
+/// `[t0, t1]`, `t1`, and fillers so that no gap exceeds `max_gap` (no fillers
+/// when it is not a positive number).
+fn frame_times(meas: &[MeasurementRow], (t0, t1): (f64, f64), max_gap: f64) -> Vec<f64> {
+    let gap = if max_gap > 0.0 && max_gap.is_finite() {
+        max_gap
     } else {
         f64::INFINITY
     };
-    // Frame times.
     let mut times = vec![t0];
     let mut mi = meas.partition_point(|m| m.t < t0);
     let mut mt: Vec<f64> = Vec::new();
@@ -532,6 +406,28 @@ pub fn merge(
             times.push(t);
         }
     }
+    times
+}
+
+/// Merges one robot's odometry, measurements and truth into frames.
+///
+/// Frames fall on every distinct measurement time within the odometry's time
+/// span, plus odometry-only frames so that no two consecutive frames are more
+/// than `max_frame_gap` apart; the first frame is at the first odometry time.
+/// Each odometry row's `(v, ω)` holds until the next row (zero-order hold),
+/// and the motion between consecutive frames is integrated exactly for a
+/// unicycle. Measurements outside the odometry span are left out.
+pub fn merge(
+    odometry: &[OdometryRow],
+    meas: &[MeasurementRow],
+    truth: &[TruthRow],
+    opts: &MergeOptions,
+) -> Vec<MetricFrame> {
+    let (Some(first), Some(last)) = (odometry.first(), odometry.last()) else {
+        return Vec::new();
+    };
+    let (t0, t1) = (first.t, last.t);
+    let times = frame_times(meas, (t0, t1), opts.max_frame_gap);
     // Walk the odometry along the frame times.
     let mut frames = Vec::with_capacity(times.len());
     let mut oi = 0usize; // current odometry row: odometry[oi].t <= now
@@ -566,11 +462,11 @@ pub fn merge(
         }
         frames.push(MetricFrame {
             t,
-            odometry: OdometryIncrement {
+            dt,
+            odometry: Odometry {
                 forward: p.x,
-                lateral: p.y,
+                left: p.y,
                 turn: p.theta,
-                dt,
             },
             observations,
             truth: interpolate_truth(truth, t, opts.max_truth_gap),

@@ -27,10 +27,10 @@
 
 use std::path::{Path, PathBuf};
 
-use super::mrclam::{
-    self, Barcodes, LandmarkTruth, MergeOptions, MetricFrame, MrclamError, TruthRow,
-};
+use super::mrclam::{self, Barcodes, MergeOptions, MrclamError};
 use super::mrclam_stream::read_lenient;
+use crate::grid::LandmarkTruth;
+use crate::localize::{MetricFrame, TruthRow};
 use std::collections::BTreeMap;
 
 /// The landmark survey's file name.

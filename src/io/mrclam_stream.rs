@@ -20,11 +20,13 @@
 //! # Example
 //!
 //! ```
-//! use lplace::io::mrclam::{LandmarkReading, MetricFrame, Pose2};
+//! use lplace::core::Pose2;
+//! use lplace::localize::{LandmarkReading, MetricFrame};
 //! use lplace::io::mrclam_stream::{to_record, RecordReader};
 //! let names = |id: u32| format!("L{id}");
 //! let f = MetricFrame {
 //!     t: 3.0,
+//!     dt: 0.0,
 //!     odometry: Default::default(),
 //!     observations: vec![LandmarkReading { subject: 6, range: 2.0, bearing: 0.1 }],
 //!     truth: Some(Pose2 { x: 1.0, y: 2.0, theta: 0.5 }),
@@ -37,8 +39,11 @@
 //! assert!((g.observations[0].bearing - 0.1).abs() < 1e-9);
 //! ```
 
-use super::mrclam::{LandmarkReading, MetricFrame, MrclamError, OdometryIncrement, Pose2};
+use super::mrclam::MrclamError;
 use super::record::{FrameRecord, Odometry, PerceptRecord, Truth, FORMAT_VERSION};
+use crate::core::angle::wrap_180;
+use crate::core::Pose2;
+use crate::localize::{LandmarkReading, MetricFrame};
 use std::collections::BTreeMap;
 
 /// Percept name of a range reading (argument: the subject's name; value: metres).
@@ -69,15 +74,6 @@ fn r6(v: f64) -> f64 {
     (v * 1e6).round() / 1e6
 }
 
-fn wrap_deg(a: f64) -> f64 {
-    let r = (a + 180.0).rem_euclid(360.0) - 180.0;
-    if r <= -180.0 {
-        r + 360.0
-    } else {
-        r
-    }
-}
-
 /// Converts one frame. `name_of` names a subject id (the map's landmark name); `place_at` names
 /// the place containing a truth position, if any.
 pub fn to_record(
@@ -98,20 +94,20 @@ pub fn to_record(
         percepts.push(PerceptRecord {
             name: BEARING.to_string(),
             args: vec![name],
-            value: Some(r6(wrap_deg(o.bearing.to_degrees()))),
+            value: Some(r6(wrap_180(o.bearing.to_degrees()))),
             degree,
         });
     }
     let truth = f.truth.map(|p| Truth {
         place: place_at(p.x, p.y),
-        pose: Some([r6(p.x), r6(p.y), r6(wrap_deg(p.theta.to_degrees()))]),
+        pose: Some([r6(p.x), r6(p.y), r6(wrap_180(p.theta.to_degrees()))]),
     });
     FrameRecord {
         version: Some(FORMAT_VERSION),
         t: Some(f.t),
         odometry: Some(Odometry {
             dx: r6(f.odometry.forward),
-            dy: r6(f.odometry.lateral),
+            dy: r6(f.odometry.left),
             dtheta: r6(f.odometry.turn.to_degrees()),
         }),
         heading: None,
@@ -155,7 +151,7 @@ impl RecordReader {
     }
 
     /// Converts one record. A record without `t` is taken to be at the previous record's time
-    /// (0 for the first); the odometry increment's `dt` is the time since the previous record.
+    /// (0 for the first); the frame's `dt` is the time since the previous record.
     pub fn convert(&mut self, rec: &FrameRecord) -> MetricFrame {
         let percepts = rec.percepts.iter().map(|p| Reading {
             name: &p.name,
@@ -218,15 +214,15 @@ impl RecordReader {
             .map(|[x, y, th]| Pose2 {
                 x,
                 y,
-                theta: wrap_deg(th).to_radians(),
+                theta: wrap_180(th).to_radians(),
             });
         MetricFrame {
             t,
-            odometry: OdometryIncrement {
+            dt,
+            odometry: crate::core::Odometry {
                 forward: o.dx,
-                lateral: o.dy,
+                left: o.dy,
                 turn: o.dtheta.to_radians(),
-                dt,
             },
             observations,
             truth,

@@ -1,6 +1,6 @@
 //! Metric localizers and the driver that runs and scores them: the one place where "run a method
 //! over a stream of landmark frames" is written, so that the Fuzzy Position Grid
-//! ([`crate::grid`]), the particle filter and Fuzzy R-MCL (`crate::baseline`) and the
+//! ([`crate::grid`]), the particle filter and Fuzzy R-MCL (`baseline`) and the
 //! cooperative layer are stepped, kidnapped and scored the same way.
 //!
 //! A method implements [`Localizer`]: it takes odometry increments ([`Motion`]) and landmark
@@ -34,7 +34,11 @@
 //!   [`Localizer::reobserve_interval`] seconds; the readings in between are
 //!   counted in [`RunReport::thinned`].
 //!
-//! May depend on: `grid` (for the shared reading and motion types), `io::mrclam` (frames).
+//! The metric input types ([`MetricFrame`], [`LandmarkReading`], the truth track) live here, in
+//! [`frame`], and the grid's [`Localizer`] in [`grid`]; the dataset readers in `io` build frames.
+//!
+//! May depend on: `core` (pose, odometry, angles, RNG), `grid` (the belief, the reading and
+//! motion types).
 //!
 //! # Complexity
 //!
@@ -43,9 +47,10 @@
 //! # Example
 //!
 //! ```
-//! use lplace::grid::{run::GridLocalizer, GridConfig, Landmark, LandmarkTable};
-//! use lplace::localize::{Drive, RunOptions};
-//! use lplace::io::mrclam::{LandmarkReading, MetricFrame, Pose2};
+//! use lplace::core::Pose2;
+//! use lplace::grid::{GridConfig, Landmark, LandmarkTable};
+//! use lplace::localize::grid::GridLocalizer;
+//! use lplace::localize::{Drive, LandmarkReading, MetricFrame, RunOptions};
 //! let table = LandmarkTable::new(vec![
 //!     Landmark { id: 1, x: 0.0, y: 0.0 },
 //!     Landmark { id: 2, x: 3.0, y: 0.0 },
@@ -60,6 +65,7 @@
 //! for k in 0..3 {
 //!     let frame = MetricFrame {
 //!         t: k as f64,
+//!         dt: if k == 0 { 0.0 } else { 1.0 },
 //!         odometry: Default::default(),
 //!         observations: vec![seen(1, 0.0, 0.0), seen(2, 3.0, 0.0), seen(3, 0.0, 2.0)],
 //!         truth: Some(Pose2 { x: 1.0, y: 1.0, theta: 0.0 }),
@@ -70,10 +76,15 @@
 //! assert!(drive.finish().ate.unwrap().rmse < 0.1);
 //! ```
 
+pub mod frame;
+pub mod grid;
 pub mod perturb;
 
-use crate::grid::{wrap_pi, LandmarkTable, Motion, Observation};
-use crate::io::mrclam::{MetricFrame, Pose2};
+pub use frame::{interpolate_truth, LandmarkReading, MetricFrame, TruthRow};
+
+use crate::core::angle::wrap_pi_f32;
+use crate::core::Pose2;
+use crate::grid::{LandmarkTable, Motion, Observation};
 use serde::{Deserialize, Serialize};
 
 /// A pose estimate with the method's confidence in it.
@@ -324,7 +335,7 @@ impl<'t> Drive<'t> {
         if let Some(k) = self.kidnap {
             if f.t >= k.time {
                 o.forward += k.forward;
-                o.lateral += k.lateral;
+                o.left += k.lateral;
                 o.turn += k.turn;
                 self.kidnap = None;
             }
@@ -332,16 +343,16 @@ impl<'t> Drive<'t> {
         let m = if self.opts.use_odometry {
             Motion {
                 forward: o.forward as f32,
-                lateral: o.lateral as f32,
+                lateral: o.left as f32,
                 turn: o.turn as f32,
-                dt: o.dt as f32,
+                dt: f.dt as f32,
             }
         } else {
             Motion {
                 forward: 0.0,
                 lateral: 0.0,
                 turn: 0.0,
-                dt: o.dt as f32,
+                dt: f.dt as f32,
             }
         };
         if loc.predict(&m).is_err() {
@@ -411,7 +422,7 @@ impl<'t> Drive<'t> {
             .filter(after_fix)
             .filter_map(|f| {
                 f.truth
-                    .map(|tr| wrap_pi((f.pose.theta - tr.theta) as f32) as f64)
+                    .map(|tr| wrap_pi_f32((f.pose.theta - tr.theta) as f32) as f64)
             })
             .collect();
         let heading_rmse = (!head.is_empty())

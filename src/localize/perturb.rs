@@ -15,7 +15,7 @@
 //! kept at 50 %, and a reading's noise at level 2σ is exactly twice its noise at σ. Differences
 //! between levels are then the levels' doing, not the sampling's.
 //!
-//! May depend on: `io::mrclam` (frames), `core::rng` (the seeded generator).
+//! May depend on: `core` (the seeded generator, angle wrapping), [`super::frame`] (frames).
 //!
 //! # Complexity
 //!
@@ -24,10 +24,11 @@
 //! # Example
 //!
 //! ```
-//! use lplace::io::mrclam::{LandmarkReading, MetricFrame};
+//! use lplace::localize::{LandmarkReading, MetricFrame};
 //! use lplace::localize::perturb::{perturb, Perturbation};
 //! let frame = MetricFrame {
 //!     t: 0.0,
+//!     dt: 0.0,
 //!     odometry: Default::default(),
 //!     observations: vec![LandmarkReading { subject: 6, range: 2.0, bearing: 0.1 }; 100],
 //!     truth: None,
@@ -40,8 +41,9 @@
 //! assert!(out[0].observations.iter().all(|r| r.range == 2.0 && r.bearing == 0.1));
 //! ```
 
+use super::frame::{LandmarkReading, MetricFrame};
+use crate::core::angle::wrap_pi;
 use crate::core::rng::SplitMix64;
-use crate::io::mrclam::{LandmarkReading, MetricFrame};
 use serde::{Deserialize, Serialize};
 
 /// Noise levels of the noise sweep: (range σ in metres, bearing σ in degrees).
@@ -135,18 +137,6 @@ pub enum PerturbError {
     },
 }
 
-/// Wraps an angle (rad) into (−π, π].
-fn wrap(a: f64) -> f64 {
-    use std::f64::consts::{PI, TAU};
-    let w = (a + PI).rem_euclid(TAU) - PI;
-    // rem_euclid maps −π to −π; the convention here is (−π, π].
-    if w <= -PI {
-        w + TAU
-    } else {
-        w
-    }
-}
-
 /// Applies `p` to `frames` with the generator seeded by `seed` (see the module docs).
 ///
 /// A perturbed range that would fall below 0 is clamped to 0 (a camera cannot report a negative
@@ -180,7 +170,7 @@ pub fn perturb(
                         r.range = (r.range + p.range_sigma * nr).max(0.0);
                     }
                     if p.bearing_sigma > 0.0 && r.bearing.is_finite() {
-                        r.bearing = wrap(r.bearing + p.bearing_sigma * nb);
+                        r.bearing = wrap_pi(r.bearing + p.bearing_sigma * nb);
                     }
                     Some(r)
                 })
@@ -196,7 +186,7 @@ pub fn perturb(
 
 #[cfg(test)]
 mod tests {
-    use super::wrap;
+    use crate::core::angle::wrap_pi as wrap;
     use std::f64::consts::PI;
 
     #[test]

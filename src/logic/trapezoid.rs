@@ -11,7 +11,8 @@
 //! ```
 //!
 //! `α` is the horizontal run of each slope (the support is `Δ/2 + α` either side of θ); `α = 0`
-//! makes a crisp interval. The bias `b` is the possibility that the reading is an outlier: a value
+//! makes a crisp interval. The bias enters by [`BiasRule::Lifted`] ([`Trapezoid::BIAS_RULE`]);
+//! the grid's angle sets use the floor reading (see [`crate::core::trapezoid`]). The bias `b` is the possibility that the reading is an outlier: a value
 //! far from the expectation keeps possibility `b`, not 0. With a `period` (360 for degrees), the
 //! distance `|x − θ|` is taken around the circle.
 //!
@@ -19,6 +20,7 @@
 //! the nearest point of the range, `max(0, |x − θ| − w)` with θ its middle and `w` its half
 //! width — the same as a trapezoid whose core is widened by the range ([`Trapezoid::degree_within`]).
 
+use crate::core::trapezoid::BiasRule;
 use serde::{Deserialize, Serialize};
 
 /// Shape of a trapezoidal similarity; the centre θ is supplied per comparison.
@@ -49,6 +51,9 @@ impl Default for Trapezoid {
 }
 
 impl Trapezoid {
+    /// How the bias enters: `μ = b + (h − b)·f`.
+    pub const BIAS_RULE: BiasRule = BiasRule::Lifted;
+
     /// `μ(x)` for a trapezoid centred on `centre`. NaN or infinite inputs give the bias: a value
     /// that could not be measured is as possible as an outlier, no more.
     #[inline]
@@ -85,7 +90,7 @@ impl Trapezoid {
         } else {
             0.0
         };
-        self.bias + (self.height - self.bias) * f
+        Self::BIAS_RULE.apply_f64(f, self.height, self.bias)
     }
 }
 

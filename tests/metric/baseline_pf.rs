@@ -7,8 +7,8 @@ use super::baseline_sim;
 use baseline_sim::{table, BOUNDS};
 use lplace::baseline::pf::{apply_motion, low_variance_resample, wheel_increment, Injection};
 use lplace::baseline::{BaselineError, ParticleFilter, PfConfig};
+use lplace::core::Pose2;
 use lplace::grid::{GridError, Motion, Observation};
-use lplace::io::mrclam::Pose2;
 use lplace::localize::{drive, Kidnap, Localizer, Recovery, RunOptions};
 use proptest::prelude::*;
 
@@ -323,7 +323,7 @@ fn injected_particles_agree_with_the_reading() {
     for (x, y, th, _) in pf.particles() {
         let (dx, dy) = (6.0 - x, 6.0 - y); // landmark 3 at (6, 6)
         assert!((dx.hypot(dy) - r as f64).abs() <= 5.0 * sigma_r);
-        let e = lplace::grid::wrap_pi((dy.atan2(dx) - th - b as f64) as f32);
+        let e = lplace::core::angle::wrap_pi_f32((dy.atan2(dx) - th - b as f64) as f32);
         assert!(e.abs() as f64 <= 5.0 * cfg.bearing_sigma, "{e}");
     }
 }
@@ -388,7 +388,7 @@ fn mrclam_table(dir: &std::path::Path) -> lplace::grid::LandmarkTable {
     .unwrap()
 }
 
-fn mrclam_frames(dir: &std::path::Path, robot: u32) -> Vec<lplace::io::mrclam::MetricFrame> {
+fn mrclam_frames(dir: &std::path::Path, robot: u32) -> Vec<lplace::localize::MetricFrame> {
     use lplace::io::mrclam;
     let codes = mrclam::read_barcodes(open(dir, "Barcodes.dat")).unwrap();
     let odo = mrclam::read_odometry(open(dir, &format!("Robot{robot}_Odometry.dat"))).unwrap();

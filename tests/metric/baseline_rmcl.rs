@@ -5,8 +5,8 @@ use super::baseline_sim;
 
 use baseline_sim::{table, BOUNDS};
 use lplace::baseline::{BaselineError, FuzzyRmcl, RmclConfig};
-use lplace::grid::run::GridLocalizer;
 use lplace::grid::{GridConfig, Motion, Observation};
+use lplace::localize::grid::GridLocalizer;
 use lplace::localize::{drive, Localizer, RunOptions};
 use proptest::prelude::*;
 
@@ -27,7 +27,7 @@ fn readings(x: f32, y: f32, theta: f32) -> Vec<Observation> {
             Observation {
                 landmark: m.id,
                 range: Some(dx.hypot(dy)),
-                bearing: Some(lplace::grid::wrap_pi(dy.atan2(dx) - theta)),
+                bearing: Some(lplace::core::angle::wrap_pi_f32(dy.atan2(dx) - theta)),
             }
         })
         .collect()

@@ -3,7 +3,7 @@
 //! is finite, and that the bundled configuration parses.
 
 use crate::support::mrclam_dir;
-use lplace::coop::experiment::{run, Options, RobotLog};
+use lplace::coop::experiment::{run, Options, RobotTrack};
 use lplace::coop::CoopConfig;
 use lplace::grid::place::survey_landmarks;
 use lplace::grid::GridConfig;
@@ -38,7 +38,15 @@ fn mrclam_fusion_gives_finite_errors() {
     let data = lplace::io::mrclam_dir::load(&dir, &[1, 2, 3, 4, 5]).unwrap();
     assert!(data.skipped.is_empty(), "{:?}", data.skipped);
     let table = survey_landmarks(data.survey().unwrap()).unwrap();
-    let logs: Vec<RobotLog> = data.robots;
+    let logs: Vec<RobotTrack> = data
+        .robots
+        .iter()
+        .map(|l| RobotTrack {
+            robot: l.robot,
+            frames: &l.frames,
+            truth: &l.truth,
+        })
+        .collect();
     let grid = GridConfig::from_ron(&config("grid-mrclam.ron")).unwrap();
     let opts = Options {
         objects: Vec::new(),

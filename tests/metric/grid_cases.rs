@@ -67,7 +67,10 @@ fn fig4_across_the_pi_seam() {
     let a = Trapezoid::new(3.0, 0.4, 0.2, 1.0, 0.5);
     let b = Trapezoid::new(-3.0, 0.4, 0.2, 1.0, 0.5);
     let c = a.intersect_angle(&b);
-    assert!(close(lplace::grid::wrap_pi(c.center - PI), 0.0), "{c:?}");
+    assert!(
+        close(lplace::core::angle::wrap_pi_f32(c.center - PI), 0.0),
+        "{c:?}"
+    );
     assert!(close(c.core, 0.1168) && close(c.slope, 0.2), "{c:?}");
 }
 
@@ -94,7 +97,10 @@ fn field() -> (LandmarkTable, [f32; 4]) {
 fn reading(t: &LandmarkTable, id: u32, pose: (f32, f32, f32)) -> (f32, f32) {
     let m = t.get(id).unwrap();
     let (dx, dy) = (m.x - pose.0, m.y - pose.1);
-    (dx.hypot(dy), lplace::grid::wrap_pi(dy.atan2(dx) - pose.2))
+    (
+        dx.hypot(dy),
+        lplace::core::angle::wrap_pi_f32(dy.atan2(dx) - pose.2),
+    )
 }
 
 fn see(g: &mut FuzzyGrid, t: &LandmarkTable, label: u32, really: u32, pose: (f32, f32, f32)) {
@@ -121,7 +127,10 @@ fn robocup_field_localises_from_range_and_bearing() {
     see(&mut g, &t, 4, 4, pose);
     let e = g.estimate();
     assert!((e.x - pose.0).hypot(e.y - pose.1) < 0.15, "{e:?}");
-    assert!(lplace::grid::wrap_pi(e.theta - pose.2).abs() < 0.1, "{e:?}");
+    assert!(
+        lplace::core::angle::wrap_pi_f32(e.theta - pose.2).abs() < 0.1,
+        "{e:?}"
+    );
     assert!(e.reliability > 0.5, "{e:?}");
 }
 
@@ -213,8 +222,9 @@ fn config_round_trips_through_ron_and_rejects_nonsense() {
 /// 0.45 m and stay there for 10 s, and before that it must track closely.
 #[test]
 fn robocup_field_tracks_and_recovers_from_a_kidnap() {
-    use lplace::grid::run::{run, Kidnap, Recovery, RunOptions};
-    use lplace::io::mrclam::{LandmarkReading, MetricFrame, OdometryIncrement, Pose2};
+    use lplace::core::{Odometry, Pose2};
+    use lplace::localize::grid::run;
+    use lplace::localize::{Kidnap, LandmarkReading, MetricFrame, Recovery, RunOptions};
     let (table, _) = field();
     let (v, w, dt) = (0.1f64, 0.2f64, 0.5f64);
     let pose = |t: f64| {
@@ -246,18 +256,19 @@ fn robocup_field_tracks_and_recovers_from_a_kidnap() {
                     })
                 })
                 .collect();
-            let odometry = if k == 0 {
-                OdometryIncrement::default()
+            let (odometry, step) = if k == 0 {
+                (Odometry::default(), 0.0)
             } else {
-                OdometryIncrement {
+                let o = Odometry {
                     forward: v / w * (w * dt).sin(),
-                    lateral: v / w * (1.0 - (w * dt).cos()),
+                    left: v / w * (1.0 - (w * dt).cos()),
                     turn: w * dt,
-                    dt,
-                }
+                };
+                (o, dt)
             };
             MetricFrame {
                 t,
+                dt: step,
                 odometry,
                 observations,
                 truth: Some(p),

@@ -3,10 +3,11 @@
 
 use crate::support::mrclam_dir;
 use lplace::grid::place::survey_landmarks;
-use lplace::grid::run::{run, RunOptions};
 use lplace::grid::GridConfig;
 use lplace::io::mrclam::*;
 use lplace::io::tum::{read_tum, write_tum, TumError, TumPose};
+use lplace::localize::grid::run;
+use lplace::localize::RunOptions;
 
 fn codes() -> Barcodes {
     read_barcodes("# c\n# c\n1 5\n6 63\n7 81\n".as_bytes()).unwrap()
@@ -120,7 +121,7 @@ fn merge_integrates_odometry_and_interpolates_truth() {
     let times: Vec<f64> = f.iter().map(|f| f.t).collect();
     assert_eq!(times, vec![0.0, 1.0, 2.0]);
     assert_eq!(f[1].observations.len(), 2);
-    assert!((f[1].odometry.forward - 1.0).abs() < 1e-9 && f[1].odometry.lateral.abs() < 1e-9);
+    assert!((f[1].odometry.forward - 1.0).abs() < 1e-9 && f[1].odometry.left.abs() < 1e-9);
     assert!((f[2].odometry.turn - std::f64::consts::FRAC_PI_2).abs() < 1e-6);
     let t1 = f[1].truth.unwrap();
     assert!((t1.x - 1.0).abs() < 1e-9 && (t1.y - 2.0).abs() < 1e-9);

@@ -2,8 +2,9 @@
 //! kept fraction is met within binomial tolerance, noise 0 is the identity, the noise has the
 //! asked standard deviation, the same seed gives the same stream, and bad levels are refused.
 
-use lplace::io::mrclam::{LandmarkReading, MetricFrame, OdometryIncrement, Pose2};
+use lplace::core::{Odometry, Pose2};
 use lplace::localize::perturb::{perturb, PerturbError, Perturbation, KEEP_LEVELS};
+use lplace::localize::{LandmarkReading, MetricFrame};
 use proptest::prelude::*;
 
 /// `n` frames of `per` readings each, with varied ranges and bearings.
@@ -11,11 +12,11 @@ fn frames(n: usize, per: usize) -> Vec<MetricFrame> {
     (0..n)
         .map(|k| MetricFrame {
             t: k as f64 * 0.5,
-            odometry: OdometryIncrement {
+            dt: 0.5,
+            odometry: Odometry {
                 forward: 0.01 * k as f64,
-                lateral: 0.0,
+                left: 0.0,
                 turn: 0.001,
-                dt: 0.5,
             },
             observations: (0..per)
                 .map(|j| LandmarkReading {

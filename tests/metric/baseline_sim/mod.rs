@@ -4,9 +4,11 @@
 
 #![allow(dead_code)]
 
+use lplace::core::angle::wrap_pi_f32 as wrap_pi;
 use lplace::core::rng::SplitMix64;
-use lplace::grid::{wrap_pi, Landmark, LandmarkTable};
-use lplace::io::mrclam::{LandmarkReading, MetricFrame, OdometryIncrement, Pose2};
+use lplace::core::{Odometry, Pose2};
+use lplace::grid::{Landmark, LandmarkTable};
+use lplace::localize::{LandmarkReading, MetricFrame};
 
 /// Range noise σ (m) of the simulated camera.
 pub const RANGE_SIGMA: f64 = 0.05;
@@ -64,20 +66,20 @@ pub fn run(frames: usize, seed: u64) -> Vec<MetricFrame> {
     (0..frames)
         .map(|k| {
             let p = truth(k);
-            let odometry = if k == 0 {
-                OdometryIncrement::default()
+            let (odometry, dt) = if k == 0 {
+                (Odometry::default(), 0.0)
             } else {
                 // The true increment in the previous robot frame, with multiplicative noise.
                 let q = truth(k - 1);
                 let (dx, dy) = (p.x - q.x, p.y - q.y);
                 let (c, s) = (q.theta.cos(), q.theta.sin());
-                OdometryIncrement {
+                let o = Odometry {
                     forward: (c * dx + s * dy) * (1.0 + ODO_SIGMA * rng.normal()),
-                    lateral: (-s * dx + c * dy) * (1.0 + ODO_SIGMA * rng.normal()),
+                    left: (-s * dx + c * dy) * (1.0 + ODO_SIGMA * rng.normal()),
                     turn: wrap_pi((p.theta - q.theta) as f32) as f64
                         * (1.0 + ODO_SIGMA * rng.normal()),
-                    dt: DT,
-                }
+                };
+                (o, DT)
             };
             let observations = table
                 .landmarks()
@@ -95,6 +97,7 @@ pub fn run(frames: usize, seed: u64) -> Vec<MetricFrame> {
                 .collect();
             MetricFrame {
                 t: DT * k as f64,
+                dt,
                 odometry,
                 observations,
                 truth: Some(p),

@@ -17,9 +17,10 @@
 //! # Example
 //!
 //! ```
+//! use lplace::core::Pose2;
 //! use lplace::grid::{GridConfig, Landmark, LandmarkTable};
-//! use lplace::grid::run::{run, RunOptions};
-//! use lplace::io::mrclam::{LandmarkReading, MetricFrame, Pose2};
+//! use lplace::localize::grid::run;
+//! use lplace::localize::{LandmarkReading, MetricFrame, RunOptions};
 //! let table = LandmarkTable::new(vec![
 //!     Landmark { id: 1, x: 0.0, y: 0.0 },
 //!     Landmark { id: 2, x: 3.0, y: 0.0 },
@@ -32,6 +33,7 @@
 //! };
 //! let frame = |t: f64| MetricFrame {
 //!     t,
+//!     dt: 1.0,
 //!     odometry: Default::default(),
 //!     observations: vec![seen(1, 0.0, 0.0), seen(2, 3.0, 0.0), seen(3, 0.0, 2.0)],
 //!     truth: Some(Pose2 { x: 1.0, y: 1.0, theta: 0.0 }),
@@ -40,12 +42,10 @@
 //! assert!(report.ate.unwrap().rmse < 0.1);
 //! ```
 
-use super::{FuzzyGrid, GridConfig, GridError, LandmarkTable, Motion, Observation};
-use crate::io::mrclam::{MetricFrame, Pose2};
-use crate::localize::{drive, Localizer, PoseEstimate};
-pub use crate::localize::{
-    recovery_time, AteStats, FirstFix, FrameEstimate, Kidnap, Recovery, RunOptions, RunReport,
-};
+use super::{drive, Localizer, MetricFrame, PoseEstimate, RunOptions, RunReport};
+use crate::core::angle::wrap_pi_f32;
+use crate::core::Pose2;
+use crate::grid::{FuzzyGrid, GridConfig, GridError, LandmarkTable, Motion, Observation};
 
 /// The Fuzzy Position Grid as a [`Localizer`].
 #[derive(Debug, Clone)]
@@ -130,7 +130,7 @@ impl Localizer for GridLocalizer {
             pose: Pose2 {
                 x: (e.x + dx) as f64,
                 y: (e.y + dy) as f64,
-                theta: crate::grid::wrap_pi(e.theta + dt) as f64,
+                theta: wrap_pi_f32(e.theta + dt) as f64,
             },
             reliability: e.reliability,
             heading_reliability: e.heading_reliability,
