@@ -460,6 +460,7 @@ mod tests {
                 dtheta: 0.0,
             }),
             heading: None,
+            region: None,
             percepts: percepts
                 .iter()
                 .map(|&(name, arg, v)| PerceptRecord {

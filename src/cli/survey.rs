@@ -275,6 +275,7 @@ mod tests {
             t: Some(t),
             odometry: None,
             heading: None,
+            region: None,
             percepts: Vec::new(),
             truth: None,
         };
