@@ -9,8 +9,8 @@
 
 use super::args::{ArgError, EvalArgs, Format, StreamForm, SummaryFormat};
 use super::{load_engine, CliError, EXIT_OK, EXIT_REJECTED};
-use crate::engine::tracker::TrackerConfig;
 use crate::engine::outcome::QueryOutcome;
+use crate::engine::tracker::TrackerConfig;
 use crate::engine::{CompileOptions, Engine};
 use crate::io::record::FrameRecord;
 use crate::io::stream::{read_records, FrameMeta, Record, StreamFormat, StreamReader, Threads};

@@ -17,9 +17,9 @@
 //! it reads only the `BufRead` it is given.
 
 use crate::engine::{Frame, PerceptInstance};
-use crate::localize::MetricFrame;
 use crate::io::mrclam_stream::{Reading, RecordReader, BEARING, RANGE};
 use crate::io::stream::{FrameMeta, LineError, ReadOutcome, Schema, StreamReader};
+use crate::localize::MetricFrame;
 use crate::map::Map;
 use std::collections::BTreeMap;
 use std::io::BufRead;
