@@ -6,7 +6,7 @@
 //! row 0 at `y_min`), so every pass is a linear sweep. The grid's state is
 //! visible to the `grid` module only (the files that implement its update,
 //! prediction and estimate); everything else goes through methods. Scratch
-//! buffers live in a separate [`Workspace`](super::workspace), allocated once here
+//! buffers live in a separate workspace (`grid/workspace.rs`), allocated once here
 //! so that stepping allocates nothing.
 //!
 //! # Complexity
