@@ -243,7 +243,11 @@ pub fn resolve_topics(bag: &[u8], choice: &TopicChoice) -> Result<Topics, BagErr
 fn channel_types(bag: &[u8]) -> Result<BTreeMap<String, String>, BagError> {
     let mut out = BTreeMap::new();
     if let Some(summary) = mcap::Summary::read(bag)? {
-        for ch in summary.channels.values() {
+        // The summary holds channels in a hash map: visit them in id order (the order they
+        // were declared), so that "the first channel wins" does not depend on hashing.
+        let mut channels: Vec<_> = summary.channels.values().collect();
+        channels.sort_by_key(|ch| ch.id);
+        for ch in channels {
             out.entry(ch.topic.clone())
                 .or_insert_with(|| schema_name(ch));
         }
