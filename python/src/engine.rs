@@ -2,7 +2,9 @@
 //! arrays) or many (an `n_frames × n_slots` array, GIL released).
 //!
 //! The per-frame path reuses one [`Frame`] held by the engine object, so a Python `step`
-//! allocates only the returned `Decision` (its per-place arrays are made when first read).
+//! allocates only the returned `Decision` (its per-place arrays are made when first read), and
+//! takes its arrays without numpy's borrow registry and its place name from interned strings:
+//! those two were most of the cost Python added to a step.
 
 use crate::errors::check_error;
 use crate::stream::reason_code;
@@ -10,12 +12,10 @@ use lplace::engine::{Engine, Frame};
 use lplace::logic::Decision;
 use lplace::report::summary::reason_name;
 use lplace::syntax::diagnostic::SourceFile;
-use numpy::{
-    PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
-};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyKeyError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyTuple};
+use pyo3::types::{PyDict, PyString, PyTuple};
 
 /// A loaded and compiled map + rule file, with the buffers one step needs.
 #[pyclass(module = "lplace._lplace", name = "Engine")]
@@ -23,32 +23,39 @@ pub struct PyEngine {
     pub(crate) engine: Engine,
     frame: Frame,
     places: Vec<String>,
+    /// The same names as Python strings, made once: a step hands out a reference.
+    place_names: Vec<Py<PyString>>,
 }
 
 impl PyEngine {
-    fn wrap(engine: Engine) -> PyEngine {
+    fn wrap(py: Python<'_>, engine: Engine) -> PyEngine {
         let frame = engine.new_frame();
-        let places = engine
+        let places: Vec<String> = engine
             .map()
             .places()
             .iter()
             .map(|p| p.name.clone())
             .collect();
+        let place_names = places
+            .iter()
+            .map(|p| PyString::intern(py, p).unbind())
+            .collect();
         PyEngine {
             engine,
             frame,
             places,
+            place_names,
         }
     }
 
-    fn decision(&self, d: Decision) -> PyDecision {
+    fn decision(&self, py: Python<'_>, d: Decision) -> PyDecision {
         let dist = self.engine.distribution();
         let (place_index, necessity, reason) = match d {
             Decision::Place { place, necessity } => (Some(place), Some(necessity), None),
             Decision::Disoriented(why) => (None, None, Some(reason_name(&why))),
         };
         PyDecision {
-            place: place_index.and_then(|k| self.places.get(k).cloned()),
+            place: place_index.and_then(|k| self.place_names.get(k).map(|p| p.clone_ref(py))),
             place_index,
             necessity,
             inconsistency: dist.inconsistency,
@@ -95,32 +102,35 @@ impl PyEngine {
         degrees: &Bound<'_, PyAny>,
         values: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        let slots = self.frame.degree.len();
-        let degrees: PyReadonlyArray1<'_, f64> = degrees.extract()?;
-        let d = degrees.as_slice()?;
-        if d.len() != slots {
-            return Err(PyValueError::new_err(format!(
-                "degrees has {} entries, the engine has {slots} slots",
-                d.len()
-            )));
-        }
-        self.frame.degree.copy_from_slice(d);
+        copy_row(&mut self.frame.degree, degrees, "degrees")?;
         match values {
             None => self.frame.value.fill(f64::NAN),
-            Some(v) => {
-                let values: PyReadonlyArray1<'_, f64> = v.extract()?;
-                let v = values.as_slice()?;
-                if v.len() != slots {
-                    return Err(PyValueError::new_err(format!(
-                        "values has {} entries, the engine has {slots} slots",
-                        v.len()
-                    )));
-                }
-                self.frame.value.copy_from_slice(v);
-            }
+            Some(v) => copy_row(&mut self.frame.value, v, "values")?,
         }
         Ok(())
     }
+}
+
+/// Copies a contiguous float64 array of `dst.len()` entries into `dst`.
+///
+/// The array is read without taking a borrow in numpy's registry (`PyReadonlyArray1`): that
+/// registry costs about as much as the rest of the call. The registry guards only against other
+/// Rust borrows; here the GIL is held from the type check to the end of the copy, no Python code
+/// runs in between, and this crate never holds a mutable view of a caller's array, so the read
+/// is as safe as numpy's own C code reading it.
+fn copy_row(dst: &mut [f64], src: &Bound<'_, PyAny>, what: &str) -> PyResult<()> {
+    let array = src.downcast::<PyArray1<f64>>()?;
+    // SAFETY: see above; `as_slice` itself refuses arrays that are not contiguous.
+    let row = unsafe { array.as_slice() }?;
+    if row.len() != dst.len() {
+        return Err(PyValueError::new_err(format!(
+            "{what} has {} entries, the engine has {} slots",
+            row.len(),
+            dst.len()
+        )));
+    }
+    dst.copy_from_slice(row);
+    Ok(())
 }
 
 /// `name(a, b)` → (`name`, [`a`, `b`]); `name` → (`name`, []). `None` when the parentheses
@@ -235,7 +245,7 @@ impl PyEngine {
         };
         let (map, rules) = (read(&map_path)?, read(&rules_path)?);
         Engine::load(&map, &rules)
-            .map(PyEngine::wrap)
+            .map(|e| PyEngine::wrap(py, e))
             .map_err(|e| check_error(py, &e))
     }
 
@@ -253,7 +263,7 @@ impl PyEngine {
         let map = SourceFile::new(map_name, map_text);
         let rules = SourceFile::new(rules_name, rules_text);
         Engine::load(&map, &rules)
-            .map(PyEngine::wrap)
+            .map(|e| PyEngine::wrap(py, e))
             .map_err(|e| check_error(py, &e))
     }
 
@@ -261,7 +271,7 @@ impl PyEngine {
     #[staticmethod]
     fn office(py: Python<'_>) -> PyResult<Self> {
         Engine::office()
-            .map(PyEngine::wrap)
+            .map(|e| PyEngine::wrap(py, e))
             .map_err(|e| check_error(py, &e))
     }
 
@@ -311,6 +321,7 @@ impl PyEngine {
     #[pyo3(signature = (frame, values = None))]
     fn step(
         &mut self,
+        py: Python<'_>,
         frame: &Bound<'_, PyAny>,
         values: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyDecision> {
@@ -326,7 +337,7 @@ impl PyEngine {
             Err(_) => self.fill_from_arrays(frame, values)?,
         }
         let d = self.engine.step(&self.frame);
-        Ok(self.decision(d))
+        Ok(self.decision(py, d))
     }
 
     /// Steps every row of an `(n_frames, n_slots)` float64 array of degrees (and optional
@@ -436,7 +447,7 @@ pub(crate) fn rust_loop_ns(
 pub struct PyDecision {
     /// The chosen place's name, `None` when disoriented.
     #[pyo3(get)]
-    place: Option<String>,
+    place: Option<Py<PyString>>,
     /// The chosen place's index into `Engine.places`.
     #[pyo3(get)]
     place_index: Option<usize>,
@@ -479,8 +490,12 @@ impl PyDecision {
         PyArray1::from_slice(py, &self.necessities)
     }
 
-    fn __repr__(&self) -> String {
-        match (&self.place, self.necessity) {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let place = self
+            .place
+            .as_ref()
+            .map(|p| p.bind(py).to_string_lossy().into_owned());
+        match (place, self.necessity) {
             (Some(p), Some(n)) => format!(
                 "Decision(place={p:?}, necessity={n:.4}, inconsistency={:.4})",
                 self.inconsistency
