@@ -1,4 +1,5 @@
-//! The command line: `lplace check | explain | eval | simulate | extract | grid | compare | fuse`.
+//! The command line: `lplace check | explain | eval | simulate | extract | grid | compare | fuse
+//! | survey | report`.
 //!
 //! Flags are handled in two stages, as in ripgrep: [`args`] parses the command line with clap
 //! into plain data, then each command module turns that into a ready-to-run command (files read,
@@ -24,6 +25,7 @@ mod extract_rosbag2;
 mod fuse;
 mod grid;
 mod render;
+mod report;
 mod simulate;
 mod stream_input;
 pub mod survey;
@@ -101,6 +103,7 @@ pub fn main() -> ExitCode {
         args::Command::Compare(a) => compare::run(&a, &mut out),
         args::Command::Fuse(a) => fuse::run(&a, &mut out),
         args::Command::Survey(a) => survey::run(&a, &mut out),
+        args::Command::Report(a) => report::run(&a, &mut out),
     };
     let result = result.and_then(|code| out.flush().map(|_| code).map_err(CliError::Write));
     match result {
