@@ -22,28 +22,22 @@ use pyo3::types::{PyDict, PyString, PyTuple};
 pub struct PyEngine {
     pub(crate) engine: Engine,
     frame: Frame,
-    places: Vec<String>,
-    /// The same names as Python strings, made once: a step hands out a reference.
+    /// The place names as Python strings, made once: a step hands out a reference.
     place_names: Vec<Py<PyString>>,
 }
 
 impl PyEngine {
     fn wrap(py: Python<'_>, engine: Engine) -> PyEngine {
         let frame = engine.new_frame();
-        let places: Vec<String> = engine
+        let place_names = engine
             .map()
             .places()
             .iter()
-            .map(|p| p.name.clone())
-            .collect();
-        let place_names = places
-            .iter()
-            .map(|p| PyString::intern(py, p).unbind())
+            .map(|p| PyString::intern(py, &p.name).unbind())
             .collect();
         PyEngine {
             engine,
             frame,
-            places,
             place_names,
         }
     }
@@ -277,8 +271,8 @@ impl PyEngine {
 
     /// Place names, in the order of the per-place arrays.
     #[getter]
-    fn places(&self) -> Vec<String> {
-        self.places.clone()
+    fn places(&self, py: Python<'_>) -> Vec<Py<PyString>> {
+        self.place_names.iter().map(|p| p.clone_ref(py)).collect()
     }
 
     /// Each place's pose `(x, y)` in the map frame (metres), in `places` order.
@@ -368,7 +362,7 @@ impl PyEngine {
         };
         let (engine, frame) = (&mut self.engine, &mut self.frame);
         let c = py.allow_threads(|| step_rows(engine, frame, n, d, v, slots));
-        let k = self.places.len();
+        let k = self.place_names.len();
         let out = PyDict::new(py);
         out.set_item("place", PyArray1::from_vec(py, c.place))?;
         out.set_item("necessity", PyArray1::from_vec(py, c.necessity))?;
@@ -388,7 +382,7 @@ impl PyEngine {
     fn __repr__(&self) -> String {
         format!(
             "Engine({} places, {} percept slots)",
-            self.places.len(),
+            self.place_names.len(),
             self.frame.degree.len()
         )
     }
