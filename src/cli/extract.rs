@@ -38,7 +38,8 @@ pub struct ExtractArgs {
     /// MRCLAM robot number (1–5); required with --from mrclam.
     #[arg(long, value_name = "N")]
     pub robot: Option<u32>,
-    /// Map (.map) whose place extents give each frame's ground-truth place.
+    /// Map (.map) whose place extents give each frame's ground-truth place; its `axis D;`
+    /// statement, if any, replaces the config's `compass.axis_deg`.
     #[arg(long, value_name = "MAP")]
     pub map: Option<PathBuf>,
     /// Extractor parameters (RON; see `percept::ExtractConfig`). Default: built-in defaults.
@@ -69,8 +70,13 @@ pub fn run(args: &ExtractArgs, out: &mut impl Write) -> Result<u8, CliError> {
     if args.from == LogFormat::Mrclam {
         return run_mrclam(args, out);
     }
-    let cfg = load_config(args)?;
+    let mut cfg = load_config(args)?;
     let map = load_truth_map(args)?;
+    // The building's axis is a statement of its map (`axis D;`): with it, the map and the log
+    // are a building's only inputs.
+    if let Some(axis) = map.as_ref().and_then(Map::axis_deg) {
+        cfg.compass.axis_deg = axis;
+    }
     if args.from == LogFormat::Rosbag2 {
         return super::extract_rosbag2::run(args, cfg, map.as_ref(), out);
     }

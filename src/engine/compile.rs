@@ -358,7 +358,8 @@ impl<'a> Scope<'a> {
         }
     }
 
-    /// The value of a map relation (`at_wall(v, t)`, `at_corner(v, t)`) in this context.
+    /// The value of a map relation (`at_wall(v, t)`, `at_corner(v, t)`, `at_open(v, t)`,
+    /// `at_door(v, t)`) in this context.
     pub fn map_relation(&self, atom: &Atom) -> Option<f64> {
         let Some(Term::Var(v)) = atom.args.first().map(|t| &t.node) else {
             return Some(0.0);
@@ -376,6 +377,8 @@ impl<'a> Scope<'a> {
             .map(|(_, a)| a.as_str());
         match atom.name.node.as_str() {
             "at_wall" => Some(dirs.next().map_or(0.0, |d| self.map.wall(self.context, d))),
+            "at_open" => Some(dirs.next().map_or(0.0, |d| self.map.open(self.context, d))),
+            "at_door" => Some(dirs.next().map_or(0.0, |d| self.map.door(self.context, d))),
             "at_corner" => match (dirs.next(), dirs.next()) {
                 (Some(d1), Some(d2)) => Some(self.map.corner(self.context, d1, d2)),
                 _ => Some(0.0),
@@ -419,7 +422,7 @@ pub(crate) fn key_term(k: &str) -> Term {
 
 /// True for names the engine treats as map relations.
 pub(crate) fn is_map_relation(name: &str) -> bool {
-    matches!(name, "at_wall" | "at_corner")
+    matches!(name, "at_wall" | "at_corner" | "at_open" | "at_door")
 }
 
 /// Orders derived predicates so that each comes after those its rules' bodies use.

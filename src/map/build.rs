@@ -4,6 +4,7 @@
 //! `[0, 1]`, swapped box corners and features written twice in one place. All problems are
 //! reported, not just the first.
 
+use super::outline::Outline;
 use super::place::{corner_key, Expected, Extent, Landmark, Place, Room, DEFAULT_RADIUS};
 use super::shortest_paths::floyd_warshall;
 use super::{Map, PathInfo};
@@ -38,9 +39,11 @@ impl Map {
     /// ```
     pub fn from_ast(file: &MapFile) -> Result<Map, Vec<Diagnostic>> {
         let mut diags = Vec::new();
+        let (axis_deg, kinds) = map_statements(file, &mut diags);
         let (mut rooms, landmarks, place_decls) = declare_items(file, &mut diags);
         let mut places = Vec::with_capacity(place_decls.len());
         for p in place_decls {
+            check_kind(p, kinds.as_deref(), &mut diags);
             places.push(build_place(p, &mut rooms, places.len(), &mut diags));
         }
         let graph = build_graph(file, &places, &mut diags);
@@ -51,12 +54,82 @@ impl Map {
         let distances = floyd_warshall(&graph, |p| p.length);
         Ok(Map {
             name: file.name.as_ref().map(|n| n.node.clone()),
+            axis_deg,
+            kinds,
             places,
             rooms,
             landmarks,
             graph,
             distances,
         })
+    }
+}
+
+/// The building axis and the kinds domain: each at most once, the axis within ±45° (every
+/// wall direction has one representative there, so two spellings of one axis cannot differ).
+fn map_statements(
+    file: &MapFile,
+    diags: &mut Vec<Diagnostic>,
+) -> (Option<f64>, Option<Vec<String>>) {
+    let mut axis: Option<(f64, Span)> = None;
+    let mut kinds: Option<(Vec<String>, Span)> = None;
+    let twice = |what: &'static str, span: Span, first: Span| {
+        Diagnostic::error(DiagnosticKind::DuplicateMapStatement { what }, span)
+            .with_related(first, "first given here")
+    };
+    for item in &file.items {
+        match item {
+            MapItem::Axis(a) => {
+                let v = a.degrees.node;
+                if !(-45.0..=45.0).contains(&v) {
+                    diags.push(Diagnostic::error(
+                        DiagnosticKind::AxisOutOfRange { value: v },
+                        a.degrees.span,
+                    ));
+                }
+                match axis {
+                    Some((_, first)) => diags.push(twice("axis", a.span, first)),
+                    None => axis = Some((v.clamp(-45.0, 45.0), a.span)),
+                }
+            }
+            MapItem::Kinds(k) => {
+                let mut names: BTreeMap<&str, Span> = BTreeMap::new();
+                for n in &k.kinds {
+                    if let Some(first) = names.insert(&n.node, n.span) {
+                        let d = DiagnosticKind::DuplicateName {
+                            what: "kind",
+                            name: n.node.clone(),
+                        };
+                        diags.push(
+                            Diagnostic::error(d, n.span).with_related(first, "first listed here"),
+                        );
+                    }
+                }
+                match kinds {
+                    Some((_, first)) => diags.push(twice("kinds", k.span, first)),
+                    None => {
+                        let list = k.kinds.iter().map(|n| n.node.clone()).collect();
+                        kinds = Some((list, k.span));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    (axis.map(|a| a.0), kinds.map(|k| k.0))
+}
+
+/// A place whose kind is not in the declared domain (when the map declares one) is reported.
+fn check_kind(p: &ast::PlaceDecl, kinds: Option<&[String]>, diags: &mut Vec<Diagnostic>) {
+    if let Some(kinds) = kinds {
+        if !kinds.iter().any(|k| *k == p.kind.node) {
+            diags.push(Diagnostic::error(
+                DiagnosticKind::UndeclaredKind {
+                    name: p.kind.node.clone(),
+                },
+                p.kind.span,
+            ));
+        }
     }
 }
 
@@ -120,7 +193,7 @@ fn declare_items<'f>(
                     place_decls.push(p);
                 }
             }
-            MapItem::Path(_) => {}
+            MapItem::Path(_) | MapItem::Axis(_) | MapItem::Kinds(_) => {}
         }
     }
     (rooms, landmarks, place_decls)
@@ -223,23 +296,61 @@ fn build_place(
     diags: &mut Vec<Diagnostic>,
 ) -> Place {
     let room = place_room(p, rooms, id, diags);
-    let extent = place_extent(p, diags);
+    let (extent, outline) = place_extent(p, diags);
     let mut place = Place {
         name: p.name.node.clone(),
         kind: p.kind.node.clone(),
         room,
         pose: p.pose.node,
         extent,
+        outline,
         walls: BTreeMap::new(),
+        opens: BTreeMap::new(),
+        doors: BTreeMap::new(),
         corners: BTreeMap::new(),
         params: BTreeMap::new(),
         span: p.span,
         direction_spans: Vec::new(),
     };
+    let mut sides = BTreeMap::new();
     for f in &p.features {
+        check_sides(f, &mut sides, diags);
         add_feature(&mut place, f, diags);
     }
+    // A door is an opening in a wall: the wall is there on either side of it.
+    for (dir, d) in &place.doors {
+        place.walls.entry(dir.clone()).or_insert(*d);
+    }
     place
+}
+
+/// Reports `open D` written with `wall D` or `door D` in one place (`sides`: the first
+/// statement about each direction so far).
+fn check_sides<'f>(
+    f: &'f Feature,
+    sides: &mut BTreeMap<&'f str, (&'static str, Span)>,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let (what, dir, span) = match f {
+        Feature::Wall { dir, span, .. } => ("wall", dir, *span),
+        Feature::Open { dir, span, .. } => ("open", dir, *span),
+        Feature::Door { dir, span, .. } => ("door", dir, *span),
+        _ => return,
+    };
+    match sides.get(dir.node.as_str()) {
+        Some(&(first, first_span)) if (first == "open") != (what == "open") => {
+            let kind = DiagnosticKind::ContradictoryDirection {
+                dir: dir.node.clone(),
+                first,
+                second: what,
+            };
+            diags.push(Diagnostic::error(kind, span).with_related(first_span, "written here"));
+        }
+        Some(_) => {}
+        None => {
+            sides.insert(&dir.node, (what, span));
+        }
+    }
 }
 
 /// The index of the place's room, with place `id` added to that room's places; `None` when it
@@ -268,13 +379,40 @@ fn place_room(
     }
 }
 
-/// The place's extent ([`DEFAULT_RADIUS`] when none is written); a negative radius or swapped
-/// box corners are reported.
-fn place_extent(p: &ast::PlaceDecl, diags: &mut Vec<Diagnostic>) -> Extent {
+/// The place's extent ([`DEFAULT_RADIUS`] when none is written) and, for a rotated box or a
+/// polygon, its outline (the extent is then the outline's bounding box); a negative radius,
+/// swapped box corners and a polygon that does not close or has no area are reported.
+fn place_extent(p: &ast::PlaceDecl, diags: &mut Vec<Diagnostic>) -> (Extent, Option<Outline>) {
     let Some(e) = &p.extent else {
-        return Extent::Radius(DEFAULT_RADIUS);
+        return (Extent::Radius(DEFAULT_RADIUS), None);
     };
-    match e.node {
+    let outline = match &e.node {
+        ast::Extent::RotatedBox { corners, degrees } => {
+            let (x0, y0, x1, y1) = *corners;
+            check_box(x0, y0, x1, y1, e.span, diags);
+            Some(Outline::rotated_box(x0, y0, x1, y1, degrees.node))
+        }
+        ast::Extent::Polygon(vertices) => {
+            let xy: Vec<(f64, f64)> = vertices.iter().map(|v| v.node).collect();
+            match Outline::polygon(&xy) {
+                Ok(o) => Some(o),
+                Err(kind) => {
+                    let span = match kind {
+                        DiagnosticKind::PolygonNotClosed { .. } => vertices.last().map(|v| v.span),
+                        _ => None,
+                    };
+                    diags.push(Diagnostic::error(kind, span.unwrap_or(e.span)));
+                    return (Extent::Radius(DEFAULT_RADIUS), None);
+                }
+            }
+        }
+        _ => None,
+    };
+    if let Some(o) = outline {
+        let (x0, y0, x1, y1) = o.bounds();
+        return (Extent::Box { x0, y0, x1, y1 }, Some(o));
+    }
+    let extent = match e.node {
         ast::Extent::Radius(r) => {
             if r < 0.0 {
                 diags.push(Diagnostic::error(
@@ -288,25 +426,44 @@ fn place_extent(p: &ast::PlaceDecl, diags: &mut Vec<Diagnostic>) -> Extent {
             Extent::Radius(r.max(0.0))
         }
         ast::Extent::Box(x0, y0, x1, y1) => {
-            for (lo, hi) in [(x0, x1), (y0, y1)] {
-                if lo > hi {
-                    diags.push(Diagnostic::error(
-                        DiagnosticKind::InvalidBox { low: lo, high: hi },
-                        e.span,
-                    ));
-                }
-            }
+            check_box(x0, y0, x1, y1, e.span, diags);
             Extent::Box { x0, y0, x1, y1 }
+        }
+        // Handled above.
+        ast::Extent::RotatedBox { .. } | ast::Extent::Polygon(_) => Extent::Radius(DEFAULT_RADIUS),
+    };
+    (extent, None)
+}
+
+/// Box corners in the wrong order are reported.
+fn check_box(x0: f64, y0: f64, x1: f64, y1: f64, span: Span, diags: &mut Vec<Diagnostic>) {
+    for (lo, hi) in [(x0, x1), (y0, y1)] {
+        if lo > hi {
+            diags.push(Diagnostic::error(
+                DiagnosticKind::InvalidBox { low: lo, high: hi },
+                span,
+            ));
         }
     }
 }
 
-/// Adds one wall, corner or parameter to `place`; one written twice is reported.
+/// Adds one wall, opening, door, corner or parameter to `place`; one written twice is reported.
 fn add_feature(place: &mut Place, f: &Feature, diags: &mut Vec<Diagnostic>) {
     let dup = |what: &'static str, name: String, span: Span| {
         Diagnostic::error(DiagnosticKind::DuplicateFeature { what, name }, span)
     };
     match f {
+        Feature::Open { dir, degree, span } | Feature::Door { dir, degree, span } => {
+            let d = degree_ok(degree, diags);
+            place.direction_spans.push((dir.node.clone(), dir.span));
+            let (what, set) = match f {
+                Feature::Open { .. } => ("open", &mut place.opens),
+                _ => ("door", &mut place.doors),
+            };
+            if set.insert(dir.node.clone(), d).is_some() {
+                diags.push(dup(what, dir.node.clone(), *span));
+            }
+        }
         Feature::Wall { dir, degree, span } => {
             let d = degree_ok(degree, diags);
             place.direction_spans.push((dir.node.clone(), dir.span));

@@ -8,9 +8,11 @@
 //! keep declaration order: a place's index is its id everywhere in lplace.
 
 mod build;
+mod outline;
 mod place;
 pub mod shortest_paths;
 
+pub use outline::Outline;
 pub use place::{Expected, Extent, Landmark, Place, Room, DEFAULT_RADIUS};
 
 use petgraph::graph::{NodeIndex, UnGraph};
@@ -29,6 +31,10 @@ pub struct PathInfo {
 #[derive(Debug, Clone)]
 pub struct Map {
     name: Option<String>,
+    /// `axis D;`: the building's wall direction in degrees (mod 90°), within ±45°.
+    axis_deg: Option<f64>,
+    /// `kinds {…};`: the declared place kinds, in source order.
+    kinds: Option<Vec<String>>,
     places: Vec<Place>,
     rooms: Vec<Room>,
     landmarks: Vec<Landmark>,
@@ -57,6 +63,16 @@ impl Map {
     /// The map's name (`map name;`), if given.
     pub fn name(&self) -> Option<&str> {
         self.name.as_deref()
+    }
+
+    /// The building's axis (`axis D;`): the direction its walls run in, degrees in ±45°.
+    pub fn axis_deg(&self) -> Option<f64> {
+        self.axis_deg
+    }
+
+    /// The declared place kinds (`kinds {…};`), if the map declares them.
+    pub fn kinds(&self) -> Option<&[String]> {
+        self.kinds.as_deref()
     }
 
     /// Places in declaration order (index = place id).
@@ -133,6 +149,16 @@ impl Map {
     /// Degree of the wall in direction `dir` at place `place` (0 when there is none).
     pub fn wall(&self, place: usize, dir: &str) -> f64 {
         self.places.get(place).map_or(0.0, |p| p.wall(dir))
+    }
+
+    /// Degree of `open D` towards `dir` at place `place` (0 when none).
+    pub fn open(&self, place: usize, dir: &str) -> f64 {
+        self.places.get(place).map_or(0.0, |p| p.open(dir))
+    }
+
+    /// Degree of `door D` towards `dir` at place `place` (0 when none).
+    pub fn door(&self, place: usize, dir: &str) -> f64 {
+        self.places.get(place).map_or(0.0, |p| p.door(dir))
     }
 
     /// Degree of the corner between `d1` and `d2` at place `place`, in either order (0 when

@@ -1,6 +1,7 @@
 //! Places, rooms and landmarks of the map model, with the per-place lookups (walls, corners,
 //! parameters, extent membership). Depends only on `syntax::span` (to point back at the map file).
 
+use super::outline::Outline;
 use crate::syntax::span::Span;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -67,9 +68,16 @@ pub struct Place {
     /// Approximate pose: x, y in metres, optional heading in degrees.
     pub pose: (f64, f64, Option<f64>),
     /// Region covered; [`Extent::Radius`]`(`[`DEFAULT_RADIUS`]`)` when the file gives none.
+    /// For a rotated box or a polygon, the bounding box of [`Place::outline`].
     pub extent: Extent,
-    /// Walls by direction, with their degree.
+    /// The exact region when it is a rotated box or a polygon (membership reads it).
+    pub outline: Option<Outline>,
+    /// Walls by direction, with their degree (a `door D` line implies `wall D`).
     pub walls: BTreeMap<String, f64>,
+    /// Directions written `open D` (nothing blocks the view), with their degree.
+    pub opens: BTreeMap<String, f64>,
+    /// Directions written `door D` (an opening in the wall that way), with their degree.
+    pub doors: BTreeMap<String, f64>,
     /// Corners by (direction, direction) with the two names in sorted order, with their degree.
     pub corners: BTreeMap<(String, String), f64>,
     /// Parameters by (name, key).
@@ -107,8 +115,21 @@ impl Place {
             .copied()
     }
 
+    /// Degree of `open D` towards `dir` (0 when none).
+    pub fn open(&self, dir: &str) -> f64 {
+        self.opens.get(dir).copied().unwrap_or(0.0)
+    }
+
+    /// Degree of `door D` towards `dir` (0 when none).
+    pub fn door(&self, dir: &str) -> f64 {
+        self.doors.get(dir).copied().unwrap_or(0.0)
+    }
+
     /// True if the point `(x, y)` lies in the place's extent (boundary included).
     pub fn contains(&self, x: f64, y: f64) -> bool {
+        if let Some(o) = &self.outline {
+            return o.contains(x, y);
+        }
         match self.extent {
             Extent::Radius(r) => (x - self.pose.0).hypot(y - self.pose.1) <= r,
             Extent::Box { x0, y0, x1, y1 } => x0 <= x && x <= x1 && y0 <= y && y <= y1,

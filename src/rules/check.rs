@@ -30,8 +30,15 @@ use std::collections::{BTreeMap, BTreeSet};
 /// Names that rule files may not declare as domains.
 pub const BUILTIN_DOMAINS: [&str; 4] = ["Place", "Room", "Landmark", "Region"];
 /// Names that rule files may not declare as percepts or predicates.
-pub const BUILTIN_PREDICATES: [&str; 5] =
-    ["at_place", "in_room", "in_region", "at_wall", "at_corner"];
+pub const BUILTIN_PREDICATES: [&str; 7] = [
+    "at_place",
+    "in_room",
+    "in_region",
+    "at_wall",
+    "at_corner",
+    "at_open",
+    "at_door",
+];
 
 /// The built-in heads that speak about sets of places (and so constrain the distribution).
 pub fn is_place_head(name: &str) -> bool {
@@ -783,16 +790,17 @@ impl Checker<'_> {
                     }
                 }
             }
-            "at_wall" | "at_corner" => {
+            "at_wall" | "at_corner" | "at_open" | "at_door" => {
                 if !self.arity(a, 2) {
                     return;
                 }
-                let relation: &'static str = if name == "at_wall" {
-                    "at_wall"
-                } else {
-                    "at_corner"
+                let relation: &'static str = match name {
+                    "at_wall" => "at_wall",
+                    "at_open" => "at_open",
+                    "at_door" => "at_door",
+                    _ => "at_corner",
                 };
-                let needed = if name == "at_wall" { 1 } else { 2 };
+                let needed = if name == "at_corner" { 2 } else { 1 };
                 match &a.args[0].node {
                     Term::Var(v) => match b.values.get(v) {
                         Some(p) => {

@@ -302,12 +302,18 @@ pub enum Term {
 ///
 /// ```text
 /// map office;
+/// axis 4.75;                          // the building's walls run at 4.75° (mod 90°)
+/// kinds {corner, corridor, doorway};  // the place kinds rules may test
 /// room R0 "west room";
 /// beacon B0 at (4.0, 3.0) id 1;
 /// landmark Yellow at (0.0, 6.0) id 3;
 /// place P0 corner in R0 at (0.5, 0.5) extent radius 0.6 {
 ///     wall South; wall West 0.9; corner South West;
 ///     param A = 215; param L = 4.6; param range(Yellow) = 2.5;
+/// }
+/// place C1 corridor at (3, 0) extent box (1, -1, 5, 1) rotated 4.75 { open East; open West; }
+/// place D1 doorway at (3, 2) extent polygon ((2.5, 1.5), (3.5, 1.5), (3.5, 2.5), (2.5, 2.5), (2.5, 1.5)) {
+///     wall East; wall West; door North; door South;
 /// }
 /// path P0 -- P1 length 4.0 heading 0;
 /// ```
@@ -330,6 +336,29 @@ pub enum MapItem {
     Place(PlaceDecl),
     /// `path A -- B [length l] [heading h];`
     Path(PathDecl),
+    /// `axis D;`: the building's walls run at `D` degrees (mod 90°) in the map frame.
+    Axis(AxisDecl),
+    /// `kinds {corner, doorway, …};`: the place kinds this map may use.
+    Kinds(KindsDecl),
+}
+
+/// `axis D;` — the direction (degrees, counter-clockwise from +x) the building's walls run in,
+/// modulo 90°: what a heading that locks onto walls locks to.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisDecl {
+    /// The angle as written.
+    pub degrees: Spanned<f64>,
+    /// The whole statement.
+    pub span: Span,
+}
+
+/// `kinds {corner, doorway, …};` — the domain of place kinds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KindsDecl {
+    /// The kinds in source order.
+    pub kinds: Vec<Ident>,
+    /// The whole statement.
+    pub span: Span,
 }
 
 /// `room R0 ["label"];`
@@ -393,6 +422,16 @@ pub enum Extent {
     Radius(f64),
     /// An axis-aligned box `(x0, y0, x1, y1)`.
     Box(f64, f64, f64, f64),
+    /// `box (x0, y0, x1, y1) rotated D`: that box turned by `D` degrees counter-clockwise
+    /// about its centre.
+    RotatedBox {
+        /// The box before turning, `(x0, y0, x1, y1)`.
+        corners: (f64, f64, f64, f64),
+        /// The turn in degrees, with its span.
+        degrees: Spanned<f64>,
+    },
+    /// `polygon ((x, y), …, (x, y))`: vertices in order, the last one repeating the first.
+    Polygon(Vec<Spanned<(f64, f64)>>),
 }
 
 /// One line inside a place's braces.
@@ -403,6 +442,24 @@ pub enum Feature {
         /// Direction (a value of the rules' `Dir` domain).
         dir: Ident,
         /// Certainty the wall is there and visible; 1 when omitted.
+        degree: Option<Spanned<f64>>,
+        /// The whole feature.
+        span: Span,
+    },
+    /// `open North [degree];` — nothing blocks the view that way (a corridor going on).
+    Open {
+        /// Direction.
+        dir: Ident,
+        /// Certainty; 1 when omitted.
+        degree: Option<Spanned<f64>>,
+        /// The whole feature.
+        span: Span,
+    },
+    /// `door North [degree];` — a wall with an opening in it (a doorway or a door left open).
+    Door {
+        /// Direction.
+        dir: Ident,
+        /// Certainty; 1 when omitted.
         degree: Option<Spanned<f64>>,
         /// The whole feature.
         span: Span,

@@ -443,6 +443,62 @@ pub enum DiagnosticKind {
     /// `map name;` written twice.
     #[error("the map is named more than once")]
     DuplicateMapName,
+    /// `axis D;` or `kinds {…};` written twice.
+    #[error("`{what}` is given more than once in the map")]
+    DuplicateMapStatement {
+        /// `axis` or `kinds`.
+        what: &'static str,
+    },
+    /// `axis D;` with `D` outside ±45° (every building axis has a representative there).
+    #[error("building axis {value}° is outside -45° ..= 45°")]
+    AxisOutOfRange {
+        /// The angle as written.
+        value: f64,
+    },
+    /// A polygon extent whose last vertex is not its first.
+    #[error(
+        "polygon does not close: it ends at ({x1}, {y1}), not at its first vertex ({x0}, {y0})"
+    )]
+    PolygonNotClosed {
+        /// First vertex x.
+        x0: f64,
+        /// First vertex y.
+        y0: f64,
+        /// Last vertex x.
+        x1: f64,
+        /// Last vertex y.
+        y1: f64,
+    },
+    /// A polygon with fewer than three corners, or with no area.
+    #[error("polygon has {count} distinct vertices and no area; it needs at least three")]
+    DegeneratePolygon {
+        /// Distinct vertices written.
+        count: usize,
+    },
+    /// A polygon whose edges cross.
+    #[error("polygon edges {first} and {second} cross")]
+    SelfCrossingPolygon {
+        /// One edge (1-based, in the order written).
+        first: usize,
+        /// The other.
+        second: usize,
+    },
+    /// `open D` together with `door D` or `wall D` in one place.
+    #[error("`{second} {dir}` contradicts `{first} {dir}` in this place")]
+    ContradictoryDirection {
+        /// The direction.
+        dir: String,
+        /// The statement written first (`open`, `wall`, `door`).
+        first: &'static str,
+        /// The one that contradicts it.
+        second: &'static str,
+    },
+    /// A place kind missing from the map's `kinds {…};` list.
+    #[error("place kind `{name}` is not in the map's `kinds` list")]
+    UndeclaredKind {
+        /// The kind.
+        name: String,
+    },
 }
 
 impl DiagnosticKind {
@@ -506,6 +562,17 @@ impl DiagnosticKind {
             K::DuplicateFeature { .. } => "keep one of the two lines",
             K::UnknownDirection { .. } => "use one of the values of `domain Dir` in the rule file",
             K::DuplicateMapName => "keep one `map name;` line",
+            K::DuplicateMapStatement { .. } => "keep one of the two statements",
+            K::AxisOutOfRange { .. } => {
+                "walls repeat every 90°: add or subtract 90 (a building at 79° has `axis -11;`)"
+            }
+            K::PolygonNotClosed { .. } => "repeat the first vertex at the end to close the polygon",
+            K::DegeneratePolygon { .. } => "give at least three corners that enclose an area",
+            K::SelfCrossingPolygon { .. } => "list the vertices in order around the outline",
+            K::ContradictoryDirection { .. } => {
+                "`open D`: nothing that way; `door D`: a wall with an opening; `wall D`: a wall (with `door D` if it has a door)"
+            }
+            K::UndeclaredKind { .. } => "add the kind to `kinds {…};` or fix the spelling",
         }
     }
 }

@@ -90,6 +90,11 @@ impl Builder<'_> {
         let span = self.span(&p);
         let kind = p.as_rule();
         let children: Vec<Pair<'_, R>> = p.into_inner().collect();
+        if kind == R::axis_decl {
+            let n = children.iter().find(|x| x.as_rule() == R::number)?;
+            let degrees = self.number(n);
+            return Some(MapItem::Axis(AxisDecl { degrees, span }));
+        }
         let idents: Vec<Ident> = children
             .iter()
             .filter(|x| x.as_rule() == R::ident)
@@ -100,6 +105,10 @@ impl Builder<'_> {
             return None;
         };
         match kind {
+            R::kinds_decl => Some(MapItem::Kinds(KindsDecl {
+                kinds: idents,
+                span,
+            })),
             R::room_decl => {
                 let label = children.iter().find(|x| x.as_rule() == R::string).map(|s| {
                     let text = s.clone().into_inner().next().map_or("", |t| t.as_str());
@@ -210,19 +219,42 @@ impl Builder<'_> {
             .clone()
             .into_inner()
             .find(|x| x.as_rule() != R::kw_extent)?;
-        let is_box = inner.as_rule() == R::box_extent;
-        let v = self.numbers(inner);
-        let ext = if is_box {
-            Extent::Box(
-                v.first().copied()?,
-                v.get(1).copied()?,
-                v.get(2).copied()?,
-                v.get(3).copied()?,
-            )
-        } else {
-            Extent::Radius(v.first().copied()?)
+        let ext = match inner.as_rule() {
+            R::box_extent => self.box_extent(inner)?,
+            R::polygon => {
+                let mut vertices = Vec::new();
+                for pt in inner.into_inner().filter(|x| x.as_rule() == R::point) {
+                    let pspan = self.span(&pt);
+                    let xy = self.numbers(pt);
+                    let v = (xy.first().copied()?, xy.get(1).copied()?);
+                    vertices.push(Spanned::new(v, pspan));
+                }
+                Extent::Polygon(vertices)
+            }
+            _ => Extent::Radius(self.numbers(inner).first().copied()?),
         };
         Some(Spanned::new(ext, espan))
+    }
+
+    /// `box (x0, y0, x1, y1) [rotated D]`; `None` when incomplete.
+    fn box_extent(&mut self, inner: Pair<'_, R>) -> Option<Extent> {
+        let rotation = inner
+            .clone()
+            .into_inner()
+            .find(|x| x.as_rule() == R::rotation);
+        let v = self.numbers(inner);
+        let corners = (
+            v.first().copied()?,
+            v.get(1).copied()?,
+            v.get(2).copied()?,
+            v.get(3).copied()?,
+        );
+        let Some(rotation) = rotation else {
+            return Some(Extent::Box(corners.0, corners.1, corners.2, corners.3));
+        };
+        let n = rotation.into_inner().find(|x| x.as_rule() == R::number)?;
+        let degrees = self.number(&n);
+        Some(Extent::RotatedBox { corners, degrees })
     }
 
     /// A `path` item from its parts (`idents`: both ends); `None` when incomplete.
@@ -275,6 +307,16 @@ impl Builder<'_> {
         let degree = numbers.first().cloned();
         match kind {
             R::wall => Some(Feature::Wall {
+                dir: idents.first()?.clone(),
+                degree,
+                span,
+            }),
+            R::open => Some(Feature::Open {
+                dir: idents.first()?.clone(),
+                degree,
+                span,
+            }),
+            R::door => Some(Feature::Door {
                 dir: idents.first()?.clone(),
                 degree,
                 span,

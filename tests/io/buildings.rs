@@ -67,7 +67,9 @@ const BUILDINGS: [Building; 2] = [
 ];
 
 fn extract(b: &Building, map: &Map) -> Vec<FrameRecord> {
-    let cfg = ExtractConfig::from_ron(&repo(b.config)).expect("extractor config");
+    let mut cfg = ExtractConfig::from_ron(&repo(b.config)).expect("extractor config");
+    // As `lplace extract --map` does: the building's axis is the map's statement.
+    cfg.compass.axis_deg = map.axis_deg().expect("the map states its axis");
     let mut framer = CarmenFramer::new(cfg, Some(map.places())).expect("a valid config");
     let file = std::fs::File::open(data_dir().join(b.log)).expect("the log opens");
     let mut frames = Vec::new();
