@@ -8,6 +8,7 @@
 //! keep declaration order: a place's index is its id everywhere in lplace.
 
 mod build;
+pub mod expect;
 mod outline;
 mod place;
 pub mod shortest_paths;
@@ -174,6 +175,8 @@ impl Map {
     /// geometry: the distance in metres from the place's position to the landmark, and the
     /// direction in degrees in `[0, 360)` from the place to the landmark, measured in the map
     /// frame (0° along +x, counter-clockwise; the place's heading is *not* subtracted).
+    /// `free` keyed by a compass direction falls back to the free range the place's extent
+    /// and its `wall`/`open`/`door` statements imply ([`expect`]).
     pub fn param(&self, place: usize, name: &str, key: Option<&str>) -> Option<f64> {
         self.expected(place, name, key).map(|e| e.centre())
     }
@@ -184,6 +187,9 @@ impl Map {
         let p = self.places.get(place)?;
         if let Some(v) = p.expected(name, key) {
             return Some(v);
+        }
+        if name == "free" {
+            return expect::free_range(p, key?);
         }
         let l = self.landmarks.get(self.landmark_index(key?)?)?;
         let (dx, dy) = (l.position.0 - p.pose.0, l.position.1 - p.pose.1);

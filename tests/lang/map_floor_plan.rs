@@ -237,3 +237,88 @@ proptest! {
         prop_assert_eq!(m.places()[0].contains(px, py), qx.abs() <= 2.0 && qy.abs() <= 1.0);
     }
 }
+
+/// `free(D)` of place 0 as (lo, hi) in metres.
+fn free_m(m: &Map, dir: &str) -> Option<(f64, f64)> {
+    m.expected(0, "free", Some(dir))
+        .map(|e| (e.lo.exp(), e.hi.exp()))
+}
+
+fn close_pair(got: Option<(f64, f64)>, want: (f64, f64)) -> bool {
+    got.is_some_and(|(lo, hi)| (lo - want.0).abs() < 1e-9 && (hi - want.1).abs() < 1e-9)
+}
+
+#[test]
+fn free_ranges_from_a_corridor_description() {
+    // A 4 m × 2 m stretch of an East–West corridor.
+    let m = map("place C corridor at (2, 0) extent box (0, -1, 4, 1) \
+                 { wall North; wall South; open East; open West; }");
+    // Wall: 0.3 m against it, up to the 2 m across the extent + 1.5 m beyond its edge.
+    assert!(close_pair(free_m(&m, "North"), (0.3, 3.5)));
+    assert!(close_pair(free_m(&m, "South"), (0.3, 3.5)));
+    // Open branch: 3–15 m.
+    assert!(close_pair(free_m(&m, "East"), (3.0, 15.0)));
+    // A diagonal beside an open branch may meet a corner or run on: 0.3–15 m.
+    assert!(close_pair(free_m(&m, "NorthEast"), (0.3, 15.0)));
+    assert_eq!(free_m(&m, "Up"), None);
+}
+
+#[test]
+fn free_ranges_of_a_room_a_door_and_overrides() {
+    // A 3 m square room, door to the West: the diagonal between two plain walls runs at most
+    // the square's diagonal, 3√2 m, + 1.5 m.
+    let m = map("place R room at (1.5, 1.5) extent box (0, 0, 3, 3) \
+                 { wall North; wall East; wall South; door West; }");
+    let diag = 3.0 * 2f64.sqrt() + 1.5;
+    assert!(close_pair(free_m(&m, "NorthEast"), (0.3, diag)));
+    assert!(close_pair(free_m(&m, "SouthEast"), (0.3, diag)));
+    // Door: a jamb close by, or the view through it.
+    assert!(close_pair(free_m(&m, "West"), (0.3, 15.0)));
+    assert!(close_pair(free_m(&m, "NorthWest"), (0.3, 15.0)));
+    // A hall longer than the cap: the wall range stops at 15 m.
+    let m = map("place H hall at (0, 0) extent box (0, 0, 20, 4) { wall East; }");
+    assert!(close_pair(free_m(&m, "East"), (0.3, 15.0)));
+    // Unsaid cardinal directions of a described place: anything.
+    assert!(close_pair(free_m(&m, "North"), (0.3, 15.0)));
+    // A disc: its diameter.
+    let m = map("place D corner at (0, 0) extent radius 1 { wall East; }");
+    assert!(close_pair(free_m(&m, "East"), (0.3, 3.5)));
+    // An undescribed place has none; a written parameter wins over geometry.
+    assert_eq!(free_m(&map("place A room at (0, 0);"), "North"), None);
+    let m = map("place A room at (0, 0) { wall North; param free(North) = 0.1 .. 0.2; }");
+    assert_eq!(
+        m.expected(0, "free", Some("North")).map(|e| (e.lo, e.hi)),
+        Some((0.1, 0.2))
+    );
+}
+
+#[test]
+fn compass_table_is_the_extractors() {
+    assert_eq!(
+        lplace::map::expect::COMPASS,
+        lplace::percept::compass::DIRECTIONS
+    );
+}
+
+#[test]
+fn the_reference_example_loads() {
+    let doc = include_str!("../../docs/languages.md");
+    let section = doc
+        .split("### Floor-plan statements")
+        .nth(1)
+        .expect("the section exists");
+    let block = section
+        .split("```text\n")
+        .nth(1)
+        .and_then(|b| b.split("```").next())
+        .expect("the example block");
+    let m = map(block);
+    assert_eq!(m.axis_deg(), Some(-11.0));
+    assert_eq!(m.places().len(), 3);
+    let d1 = &m.places()[1];
+    assert_eq!(
+        (d1.wall("East"), d1.door("North"), d1.wall("North")),
+        (1.0, 1.0, 1.0)
+    );
+    assert!(d1.contains(3.0, 1.6) && !d1.contains(3.0, 0.9));
+}
