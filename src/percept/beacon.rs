@@ -232,32 +232,7 @@ pub fn beacon_from_image(
     img: &BinaryImage,
     cfg: &BeaconConfig,
 ) -> Result<BeaconOutcome, BeaconError> {
-    let (mut umin, mut umax) = (usize::MAX, 0usize);
-    let mut row_count = vec![0usize; img.height()];
-    for (u, v) in img.on_pixels() {
-        umin = umin.min(u);
-        umax = umax.max(u);
-        row_count[v] += 1;
-    }
-    if umin > umax {
-        return Err(BeaconError::Empty);
-    }
-    let width = (umax - umin + 1) as f64;
-    let is_cut = |v: usize| row_count[v] as f64 >= cfg.cut_row_fraction * width;
-    // Bands of consecutive cut rows: [start, end] inclusive.
-    let mut bands: Vec<(usize, usize)> = Vec::new();
-    for v in 0..img.height() {
-        if is_cut(v) {
-            match bands.last_mut() {
-                Some(b) if b.1 + 1 == v => b.1 = v,
-                _ => bands.push((v, v)),
-            }
-        }
-    }
-    if bands.len() < 2 {
-        return Err(BeaconError::CutsNotFound { bands: bands.len() });
-    }
-    let (top, bottom) = (bands[0], bands[bands.len() - 1]);
+    let (top, bottom) = cut_bands(img, cfg)?;
     let band_points = |b: (usize, usize)| -> Vec<Point2<f64>> {
         img.on_pixels()
             .filter(|&(_, v)| v >= b.0 && v <= b.1)
@@ -299,28 +274,9 @@ pub fn beacon_from_image(
         .map(|u| cfg.helix_sign * ((u as f64 - axis_u) / radius).clamp(-1.0, 1.0).asin())
         .collect();
     let half = 0.5 * cfg.band_px;
-    let steps = cfg.angle_steps.max(1);
-    let mut best: Option<(usize, f64, f64)> = None; // (N, Σ, θ)
-    for k in 0..steps {
-        let theta = std::f64::consts::TAU * k as f64 / steps as f64;
-        let (mut n, mut sum) = (0usize, 0.0f64);
-        for &(u, v) in &helix {
-            let psi = (theta + asin_col[u - first_col]).rem_euclid(std::f64::consts::TAU);
-            let d = vt + sep * psi / std::f64::consts::TAU - v;
-            if d.abs() <= half {
-                n += 1;
-                sum += d * d;
-            }
-        }
-        let better = match best {
-            None => true,
-            Some((bn, bs, _)) => n > bn || (n == bn && sum < bs),
-        };
-        if better {
-            best = Some((n, sum, theta));
-        }
-    }
-    let (matched, sum, theta) = best.unwrap_or((0, 0.0, 0.0));
+    let helix_phase = |theta: f64, u: usize| theta + asin_col[u - first_col];
+    let (matched, sum, theta) =
+        best_phase(&helix, helix_phase, (vt, sep, half), cfg.angle_steps.max(1));
     let (angle, m, beta_theta) = if matched == 0 {
         (None, 0.0, 1.0)
     } else {
@@ -344,6 +300,72 @@ pub fn beacon_from_image(
         beta_d: ds1.max(ds2),
         distance: cfg.focal_px * cfg.cut_separation_m / sep,
     })
+}
+
+/// The first and last bands of consecutive cut rows (`[start, end]`, inclusive): rows whose
+/// lit pixels cover `cut_row_fraction` of the lit width.
+fn cut_bands(
+    img: &BinaryImage,
+    cfg: &BeaconConfig,
+) -> Result<((usize, usize), (usize, usize)), BeaconError> {
+    let (mut umin, mut umax) = (usize::MAX, 0usize);
+    let mut row_count = vec![0usize; img.height()];
+    for (u, v) in img.on_pixels() {
+        umin = umin.min(u);
+        umax = umax.max(u);
+        row_count[v] += 1;
+    }
+    if umin > umax {
+        return Err(BeaconError::Empty);
+    }
+    let width = (umax - umin + 1) as f64;
+    let is_cut = |v: usize| row_count[v] as f64 >= cfg.cut_row_fraction * width;
+    let mut bands: Vec<(usize, usize)> = Vec::new();
+    for v in 0..img.height() {
+        if is_cut(v) {
+            match bands.last_mut() {
+                Some(b) if b.1 + 1 == v => b.1 = v,
+                _ => bands.push((v, v)),
+            }
+        }
+    }
+    match (bands.first(), bands.last()) {
+        (Some(&top), Some(&bottom)) if bands.len() >= 2 => Ok((top, bottom)),
+        _ => Err(BeaconError::CutsNotFound { bands: bands.len() }),
+    }
+}
+
+/// The helix phase θ among `steps` equally spaced ones that puts the most helix pixels within
+/// `half` rows of the helix (ties: the smaller sum of squared offsets), as `(N, Σ, θ)`; `phase`
+/// is a pixel column's angle around the axis plus θ, `(vt, sep, half)` the top cut's row, the
+/// cut separation and the half band, in pixels.
+fn best_phase(
+    helix: &[(usize, f64)],
+    phase: impl Fn(f64, usize) -> f64,
+    (vt, sep, half): (f64, f64, f64),
+    steps: usize,
+) -> (usize, f64, f64) {
+    let mut best: Option<(usize, f64, f64)> = None;
+    for k in 0..steps {
+        let theta = std::f64::consts::TAU * k as f64 / steps as f64;
+        let (mut n, mut sum) = (0usize, 0.0f64);
+        for &(u, v) in helix {
+            let psi = phase(theta, u).rem_euclid(std::f64::consts::TAU);
+            let d = vt + sep * psi / std::f64::consts::TAU - v;
+            if d.abs() <= half {
+                n += 1;
+                sum += d * d;
+            }
+        }
+        let better = match best {
+            None => true,
+            Some((bn, bs, _)) => n > bn || (n == bn && sum < bs),
+        };
+        if better {
+            best = Some((n, sum, theta));
+        }
+    }
+    best.unwrap_or((0, 0.0, 0.0))
 }
 
 /// Parameters turning a landmark sighting's reliability into a degree.

@@ -111,41 +111,8 @@ impl LineFit {
 /// ```
 pub fn fit_line(points: &[Point2<f64>]) -> Result<LineFit, LineFitError> {
     let count = points.len();
-    if count < 2 {
-        return Err(LineFitError::TooFewPoints { count });
-    }
-    let first = points[0];
-    let mut distinct = false;
-    // Sums are taken relative to the first point: points sharing an exact
-    // coordinate (a vertical or horizontal wall) then have an exactly zero
-    // spread in it, and far-from-origin data loses less precision.
-    let (mut sx, mut sy) = (0.0_f64, 0.0_f64);
-    for (index, p) in points.iter().enumerate() {
-        if !(p.x.is_finite() && p.y.is_finite()) {
-            return Err(LineFitError::NonFinite {
-                index,
-                x: p.x,
-                y: p.y,
-            });
-        }
-        distinct |= *p != first;
-        sx += p.x - first.x;
-        sy += p.y - first.y;
-    }
-    if !distinct {
-        return Err(LineFitError::Coincident { count });
-    }
-    let n = count as f64;
-    let c = Point2::new(first.x + sx / n, first.y + sy / n);
-    // Centred second pass: the one-pass formula Σx² − n·x̄² cancels
-    // catastrophically for scans far from the map origin.
-    let (mut sxx, mut syy, mut sxy) = (0.0_f64, 0.0_f64, 0.0_f64);
-    for p in points {
-        let (dx, dy) = (p.x - c.x, p.y - c.y);
-        sxx += dx * dx;
-        syy += dy * dy;
-        sxy += dx * dy;
-    }
+    let c = centroid(points)?;
+    let (sxx, syy, sxy) = scatter(points, c);
     if !(sxx.is_finite()
         && syy.is_finite()
         && sxy.is_finite()
@@ -175,6 +142,7 @@ pub fn fit_line(points: &[Point2<f64>]) -> Result<LineFit, LineFitError> {
         ortho += o * o;
         along += a * a;
     }
+    let n = count as f64;
     let rms_dispersion = (ortho / n).sqrt();
     let rms_spread = (along / n).sqrt();
     if !(rms_dispersion.is_finite() && rms_spread.is_finite() && offset.is_finite()) {
@@ -191,6 +159,51 @@ pub fn fit_line(points: &[Point2<f64>]) -> Result<LineFit, LineFitError> {
         rms_spread,
         count,
     })
+}
+
+/// The points' centroid, or why there is no line through them (fewer than two, all the same,
+/// a non-finite coordinate).
+fn centroid(points: &[Point2<f64>]) -> Result<Point2<f64>, LineFitError> {
+    let count = points.len();
+    if count < 2 {
+        return Err(LineFitError::TooFewPoints { count });
+    }
+    let first = points[0];
+    let mut distinct = false;
+    // Sums are taken relative to the first point: points sharing an exact
+    // coordinate (a vertical or horizontal wall) then have an exactly zero
+    // spread in it, and far-from-origin data loses less precision.
+    let (mut sx, mut sy) = (0.0_f64, 0.0_f64);
+    for (index, p) in points.iter().enumerate() {
+        if !(p.x.is_finite() && p.y.is_finite()) {
+            return Err(LineFitError::NonFinite {
+                index,
+                x: p.x,
+                y: p.y,
+            });
+        }
+        distinct |= *p != first;
+        sx += p.x - first.x;
+        sy += p.y - first.y;
+    }
+    if !distinct {
+        return Err(LineFitError::Coincident { count });
+    }
+    let n = count as f64;
+    Ok(Point2::new(first.x + sx / n, first.y + sy / n))
+}
+
+/// The centred second moments `(Σdx², Σdy², Σdx·dy)` about `c`. A second pass: the one-pass
+/// formula Σx² − n·x̄² cancels catastrophically for scans far from the map origin.
+fn scatter(points: &[Point2<f64>], c: Point2<f64>) -> (f64, f64, f64) {
+    let (mut sxx, mut syy, mut sxy) = (0.0_f64, 0.0_f64, 0.0_f64);
+    for p in points {
+        let (dx, dy) = (p.x - c.x, p.y - c.y);
+        sxx += dx * dx;
+        syy += dy * dy;
+        sxy += dx * dy;
+    }
+    (sxx, syy, sxy)
 }
 
 #[cfg(test)]
