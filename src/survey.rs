@@ -21,10 +21,10 @@
 
 use std::collections::BTreeMap;
 
-use crate::engine::tracker::PlaceTracker;
-use crate::engine::Engine;
 use crate::io::record::{FrameRecord, Odometry};
+use crate::io::stream::FrameMeta;
 use crate::logic::Decision;
+use crate::report::run::StreamRun;
 use crate::syntax::ast::{Feature, Formula, MapFile, MapItem, RuleFile, RuleItem, Term};
 
 /// A percept feeding a map parameter (from the rules).
@@ -255,23 +255,36 @@ pub fn fit(
         .collect()
 }
 
-/// Steps every frame through `engine` and `tracker` (in order, as `lplace eval` does) and
-/// returns the tracked decisions, one per frame. Percepts a frame cannot use are left out of it.
-pub fn decide_all(
-    engine: &mut Engine,
-    tracker: &mut PlaceTracker,
-    frames: &[FrameRecord],
-) -> Vec<Decision> {
-    let mut frame = engine.new_frame();
+/// Steps every frame through `run` — the per-frame loop of `lplace eval`: the engine,
+/// conditioned on the record's `region` when it names one, then the run's tracker — and returns
+/// the decisions, one per frame. Percepts a frame cannot use are left out of it.
+pub fn decide_all(run: &mut StreamRun, frames: &[FrameRecord]) -> Vec<Decision> {
+    let schema = run.schema();
+    let mut frame = run.engine().new_frame();
     let mut rejected = Vec::new();
     frames
         .iter()
-        .map(|rec| {
+        .enumerate()
+        .map(|(k, rec)| {
             rejected.clear();
-            rec.fill(engine.percepts(), &mut frame, &mut rejected);
-            engine.step(&frame);
-            let odo = rec.odometry.unwrap_or_default().to_si();
-            tracker.step(engine.distribution(), odo, rec.heading)
+            rec.fill(run.engine().percepts(), &mut frame, &mut rejected);
+            let truth = rec.truth.as_ref();
+            let meta = FrameMeta {
+                line: k as u64 + 1,
+                t: rec.t,
+                odometry: rec.odometry.unwrap_or_default(),
+                heading: rec.heading,
+                truth_known: truth.is_some(),
+                truth_place: truth
+                    .and_then(|t| t.place.as_deref())
+                    .and_then(|p| schema.place(p)),
+                truth_pose: truth.and_then(|t| t.pose),
+                region: rec
+                    .region
+                    .as_deref()
+                    .and_then(|r| schema.region(r.as_bytes())),
+            };
+            run.step(&frame, &meta)
         })
         .collect()
 }

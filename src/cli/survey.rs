@@ -10,9 +10,10 @@ use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
-use crate::engine::tracker::{PlaceTracker, TrackerConfig};
+use crate::engine::tracker::TrackerConfig;
 use crate::engine::{CompileOptions, Engine};
 use crate::io::record::FrameRecord;
+use crate::report::run::StreamRun;
 use crate::survey::{
     decide_all, fit, links_from_rules, visits, write_params, Protocol, Score, SurveyConfig,
 };
@@ -233,7 +234,7 @@ fn held_out(
     labels: &[Option<String>],
     cfg: &SurveyConfig,
 ) -> Result<Score, CliError> {
-    let mut engine = Engine::load_with(map, rules, &CompileOptions::default()).map_err(|e| {
+    let engine = Engine::load_with(map, rules, &CompileOptions::default()).map_err(|e| {
         render::eprint(&e.file, &e.diagnostics);
         CliError::Diagnostics {
             count: e.diagnostics.len(),
@@ -246,14 +247,9 @@ fn held_out(
         .enumerate()
         .map(|(k, p)| (p.name.clone(), k))
         .collect();
-    let logic = engine.rules().logic;
-    let params = crate::logic::DecisionParams {
-        threshold: logic.threshold,
-        margin: logic.margin,
-    };
-    let mut tracker = PlaceTracker::new(engine.map(), params, tracker);
+    let mut run = StreamRun::new(engine, Some(tracker));
     let visit = visits(frames, labels, cfg.visit_gap_m);
-    let decisions = decide_all(&mut engine, &mut tracker, frames);
+    let decisions = decide_all(&mut run, frames);
     let truth: Vec<Option<usize>> = labels
         .iter()
         .map(|l| l.as_ref().and_then(|l| names.get(l)).copied())

@@ -10,35 +10,20 @@
 //! -- --nocapture` reruns it) and locks each figure a little below what was measured on
 //! 2026-12-02. Skips a building whose log is absent (`$LPLACE_DATA`, else `../shared/data`).
 
-use std::io::BufReader;
-use std::path::PathBuf;
-
-use lplace::engine::tracker::{PlaceTracker, TrackerConfig};
+use crate::support::carmen::{self, repo};
+use crate::support::data_dir;
+use lplace::engine::tracker::TrackerConfig;
 use lplace::engine::{CompileOptions, Engine};
-use lplace::io::carmen_stream::{convert, CarmenFramer};
 use lplace::io::record::FrameRecord;
-use lplace::logic::{Decision, DecisionParams};
+use lplace::logic::Decision;
 use lplace::map::Map;
-use lplace::percept::ExtractConfig;
+use lplace::report::run::StreamRun;
 use lplace::survey::{
     decide_all, fit, links_from_rules, visits, write_params, Protocol, Score, SurveyConfig,
 };
 use lplace::syntax::diagnostic::SourceFile;
 use lplace::syntax::{parse_map, parse_rules};
 
-fn data_dir() -> PathBuf {
-    std::env::var_os("LPLACE_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data"))
-}
-
-fn repo(path: &str) -> String {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(path);
-    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-/// A building: its log, map and extractor config, and the least figures locked in for the two
-/// protocols as (decided, right of decided, most confidently wrong).
 struct Building {
     name: &'static str,
     log: &'static str,
@@ -83,23 +68,7 @@ const BUILDINGS: [Building; 2] = [
 ];
 
 fn extract(b: &Building, map: &Map) -> Vec<FrameRecord> {
-    let mut cfg = ExtractConfig::from_ron(&repo(b.config)).expect("extractor config");
-    // As `lplace extract --map` does: the building's axis is the map's statement.
-    cfg.compass.axis_deg = map.axis_deg().expect("the map states its axis");
-    let mut framer = CarmenFramer::new(cfg, Some(map.places())).expect("a valid config");
-    let file = std::fs::File::open(data_dir().join(b.log)).expect("the log opens");
-    let mut frames = Vec::new();
-    convert(
-        BufReader::new(file),
-        &mut framer,
-        |f| -> Result<(), ()> {
-            frames.push(f);
-            Ok(())
-        },
-        |e| panic!("{e}"),
-    )
-    .expect("conversion");
-    frames
+    carmen::extract(&data_dir().join(b.log), b.config, map)
 }
 
 /// The tracked decisions with map text `map_text`, scored on the frames `keep` accepts.
@@ -122,21 +91,11 @@ fn score_outside(
 ) -> (Score, f64) {
     let map = SourceFile::new("map", map_text);
     let rules = SourceFile::new(rules, repo(rules));
-    let mut engine = Engine::load_with(&map, &rules, &CompileOptions::default()).expect("loads");
-    let logic = engine.rules().logic;
-    let params = DecisionParams {
-        threshold: logic.threshold,
-        margin: logic.margin,
-    };
+    let engine = Engine::load_with(&map, &rules, &CompileOptions::default()).expect("loads");
     let cfg = TrackerConfig::from_ron(&repo("config/intel-tracker.ron")).expect("tracker");
-    let mut tracker = PlaceTracker::new(engine.map(), params, cfg);
-    let decisions = decide_all(&mut engine, &mut tracker, frames);
-    let names: Vec<String> = engine
-        .map()
-        .places()
-        .iter()
-        .map(|p| p.name.clone())
-        .collect();
+    let mut run = StreamRun::new(engine, Some(cfg));
+    let decisions = decide_all(&mut run, frames);
+    let names = run.places();
     let truth: Vec<Option<usize>> = labels
         .iter()
         .map(|l| l.as_ref().and_then(|l| names.iter().position(|n| n == l)))
@@ -196,7 +155,7 @@ fn every_mapped_building_meets_its_locked_figures() {
         check(b.name, &same, b.same_log);
         check(b.name, &held, b.held_out);
         let plan_text = repo(b.plan);
-        let plan_map = Map::from_ast(&parse_map(&plan_text).expect("parses")).expect("builds");
+        let plan_map = carmen::load_map(b.plan);
         assert_eq!(plan_map.axis_deg(), map.axis_deg(), "{}: same axis", b.plan);
         let (plan, outside) =
             score_outside(&plan_text, "rules/laser.lpl", &frames, &labels, |_| true);

@@ -15,60 +15,28 @@
 //! 20 % for k = 3 … 6). Skips with a message when the data is absent (`$LPLACE_DATA`, else
 //! `../shared/data` next to the crate).
 
-use std::io::BufReader;
-use std::path::PathBuf;
+use std::path::Path;
 
-use lplace::engine::tracker::{PlaceTracker, TrackerConfig};
+use crate::support::carmen::{self, repo};
+use crate::support::data_dir;
+use lplace::engine::tracker::TrackerConfig;
 use lplace::engine::{CompileOptions, Engine};
-use lplace::io::carmen_stream::{convert, CarmenFramer};
 use lplace::io::record::{FrameRecord, Odometry};
-use lplace::logic::{Decision, DecisionParams};
+use lplace::logic::Decision;
 use lplace::map::Map;
-use lplace::percept::ExtractConfig;
+use lplace::report::run::StreamRun;
 use lplace::survey::{decide_all, thin};
 use lplace::syntax::diagnostic::SourceFile;
-use lplace::syntax::parse_map;
 
-fn data_dir() -> PathBuf {
-    std::env::var_os("LPLACE_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data"))
-}
-
-fn repo(path: &str) -> String {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(path);
-    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-fn extract(log: &PathBuf, map: &Map) -> Vec<FrameRecord> {
-    let cfg = ExtractConfig::from_ron(&repo("config/intel.ron")).expect("config/intel.ron");
-    let mut framer = CarmenFramer::new(cfg, Some(map.places())).expect("a valid config");
-    let file = std::fs::File::open(log).expect("the log opens");
-    let mut frames = Vec::new();
-    convert(
-        BufReader::new(file),
-        &mut framer,
-        |f| -> Result<(), ()> {
-            frames.push(f);
-            Ok(())
-        },
-        |e| panic!("{e}"),
-    )
-    .expect("conversion");
-    frames
+fn extract(log: &Path, map: &Map) -> Vec<FrameRecord> {
+    carmen::extract(log, "config/intel.ron", map)
 }
 
 fn decisions(frames: &[FrameRecord], cfg: TrackerConfig) -> Vec<Decision> {
     let map = SourceFile::new("maps/intel.map", repo("maps/intel.map"));
     let rules = SourceFile::new("rules/intel.lpl", repo("rules/intel.lpl"));
-    let mut engine = Engine::load_with(&map, &rules, &CompileOptions::default()).expect("loads");
-    let logic = engine.rules().logic;
-    let params = DecisionParams {
-        threshold: logic.threshold,
-        margin: logic.margin,
-    };
-    let mut tracker = PlaceTracker::new(engine.map(), params, cfg);
-    decide_all(&mut engine, &mut tracker, frames)
+    let engine = Engine::load_with(&map, &rules, &CompileOptions::default()).expect("loads");
+    decide_all(&mut StreamRun::new(engine, Some(cfg)), frames)
 }
 
 /// Both decided, and on different places.
@@ -130,7 +98,7 @@ fn thinned_and_densified_logs_decide_as_the_whole_log() {
         );
         return;
     }
-    let map = Map::from_ast(&parse_map(&repo("maps/intel.map")).expect("parses")).expect("map");
+    let map = carmen::load_map("maps/intel.map");
     let frames = extract(&log, &map);
     let cfg = TrackerConfig::from_ron(&repo("config/intel-tracker.ron")).expect("tracker");
     let per_metre = contradictions(&frames, cfg);

@@ -1,0 +1,47 @@
+//! The CARMEN buildings' shared steps: a repository file's text, a map loaded from the
+//! repository, and a raw log extracted to frames as `lplace extract --map` does (the map's
+//! `axis D;` replaces the config's axis).
+
+use lplace::io::carmen_stream::{convert, CarmenFramer};
+use lplace::io::record::FrameRecord;
+use lplace::map::Map;
+use lplace::percept::ExtractConfig;
+use lplace::syntax::parse_map;
+use std::io::BufReader;
+use std::path::{Path, PathBuf};
+
+/// The text of a file of the repository (`maps/intel.map`).
+pub fn repo(path: &str) -> String {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(path);
+    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// A map of the repository, parsed and built (panics on errors: the maps are the repository's).
+pub fn load_map(path: &str) -> Map {
+    let text = repo(path);
+    let ast = parse_map(&text).unwrap_or_else(|d| panic!("{path}: {d:?}"));
+    Map::from_ast(&ast).unwrap_or_else(|d| panic!("{path}: {d:?}"))
+}
+
+/// The frames of a CARMEN log with the extractor config at `config` (a repository path), truth
+/// places from `map`'s extents and its axis, if it states one.
+pub fn extract(log: &Path, config: &str, map: &Map) -> Vec<FrameRecord> {
+    let mut cfg = ExtractConfig::from_ron(&repo(config)).expect("extractor config");
+    if let Some(axis) = map.axis_deg() {
+        cfg.compass.axis_deg = axis;
+    }
+    let mut framer = CarmenFramer::new(cfg, Some(map.places())).expect("a valid config");
+    let file = std::fs::File::open(log).expect("the log opens");
+    let mut frames = Vec::new();
+    convert(
+        BufReader::new(file),
+        &mut framer,
+        |f| -> Result<(), ()> {
+            frames.push(f);
+            Ok(())
+        },
+        |e| panic!("{e}"),
+    )
+    .expect("conversion");
+    frames
+}
