@@ -322,3 +322,45 @@ fn the_reference_example_loads() {
     );
     assert!(d1.contains(3.0, 1.6) && !d1.contains(3.0, 0.9));
 }
+
+/// The place `at_open`/`at_door`/`at_wall` pick out when a `Dir` percept towards North is seen
+/// fully.
+fn decided_by(relation: &str) -> Option<usize> {
+    use lplace::engine::{CompileOptions, Engine};
+    use lplace::logic::Decision;
+    use lplace::syntax::diagnostic::SourceFile;
+    let map = SourceFile::new(
+        "m.map",
+        "place A corridor at (0, 0) { open North; }\n\
+         place B doorway at (5, 0) { door North; }\n\
+         place C room at (10, 0) { wall West; }",
+    );
+    let rules = SourceFile::new(
+        "r.lpl",
+        format!(
+            "logic {{ tnorm = product; implication = residuum; normalisation = min; threshold = 0.5; margin = 0.1; }}\n\
+             domain Dir = {{North, West}};\n\
+             percept sonar_wall(value, Dir, time);\n\
+             |- ((sonar_wall(p, d, t) & {relation}(p, t)) -> at_place(P_i)) for all d in Dir;"
+        ),
+    );
+    let mut engine = Engine::load_with(&map, &rules, &CompileOptions::default()).expect("loads");
+    let mut frame = engine.new_frame();
+    let slot = engine
+        .percepts()
+        .slot("sonar_wall", &["North"])
+        .expect("a slot");
+    frame.set(slot, 1.0, None);
+    match engine.step(&frame) {
+        Decision::Place { place, .. } => Some(place),
+        Decision::Disoriented(_) => None,
+    }
+}
+
+#[test]
+fn rules_read_openings_and_doors() {
+    assert_eq!(decided_by("at_open"), Some(0));
+    assert_eq!(decided_by("at_door"), Some(1));
+    // A door is in a wall: B has a wall to the North; C's wall is to the West.
+    assert_eq!(decided_by("at_wall"), Some(1));
+}
