@@ -122,7 +122,7 @@ fn map_statements(
 /// A place whose kind is not in the declared domain (when the map declares one) is reported.
 fn check_kind(p: &ast::PlaceDecl, kinds: Option<&[String]>, diags: &mut Vec<Diagnostic>) {
     if let Some(kinds) = kinds {
-        if !kinds.iter().any(|k| *k == p.kind.node) {
+        if !kinds.contains(&p.kind.node) {
             diags.push(Diagnostic::error(
                 DiagnosticKind::UndeclaredKind {
                     name: p.kind.node.clone(),

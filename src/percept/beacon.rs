@@ -302,12 +302,12 @@ pub fn beacon_from_image(
     })
 }
 
-/// The first and last bands of consecutive cut rows (`[start, end]`, inclusive): rows whose
-/// lit pixels cover `cut_row_fraction` of the lit width.
-fn cut_bands(
-    img: &BinaryImage,
-    cfg: &BeaconConfig,
-) -> Result<((usize, usize), (usize, usize)), BeaconError> {
+/// A band of consecutive image rows, `[start, end]` inclusive.
+type Band = (usize, usize);
+
+/// The first and last bands of consecutive cut rows: rows whose lit pixels cover
+/// `cut_row_fraction` of the lit width.
+fn cut_bands(img: &BinaryImage, cfg: &BeaconConfig) -> Result<(Band, Band), BeaconError> {
     let (mut umin, mut umax) = (usize::MAX, 0usize);
     let mut row_count = vec![0usize; img.height()];
     for (u, v) in img.on_pixels() {
@@ -320,7 +320,7 @@ fn cut_bands(
     }
     let width = (umax - umin + 1) as f64;
     let is_cut = |v: usize| row_count[v] as f64 >= cfg.cut_row_fraction * width;
-    let mut bands: Vec<(usize, usize)> = Vec::new();
+    let mut bands: Vec<Band> = Vec::new();
     for v in 0..img.height() {
         if is_cut(v) {
             match bands.last_mut() {
