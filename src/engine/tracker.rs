@@ -63,6 +63,13 @@
 //! *disoriented, nothing above threshold* when no place has support `≥ min_support` in the
 //! frame: tracking sharpens evidence, it does not announce a place from odometry alone.
 //!
+//! # Sparse: the horizon
+//! Both gates look only at the places within `horizon_m` (default 50 m) of `P_i` along the
+//! graph (`L'_ij ≤ horizon_m`); the others — and places with no path at all — get `R_ij = 0`.
+//! Construction runs one bounded search per place ([`crate::map::dijkstra`]); a step visits, per
+//! anchor, only the pairs its gate can reach (a path gate: a window of the row sorted by `L'`).
+//! Memory and time grow with `n` times the places within the horizon, not with `n²`.
+//!
 //! `step` allocates nothing and cannot panic: all buffers are sized at construction, and
 //! evidence of the wrong length reads its missing places as "no evidence". Depends on `logic`
 //! and `map` (path lengths, extents) only.
@@ -73,6 +80,7 @@ use crate::logic::{
     clamp_degree, decide, Decision, DecisionParams, Disoriented, Normalisation, PlaceDistribution,
     TNorm, Trapezoid,
 };
+use crate::map::dijkstra::BoundedDijkstra;
 use crate::map::{Extent, Map};
 use serde::{Deserialize, Serialize};
 
@@ -185,7 +193,8 @@ pub(super) fn unless_unsupported(
 /// ```ron
 /// (bias: 0.1, tnorm: product, tolerance: 0.8, tolerance_rel: 0.1, slope: 1.0, slope_rel: 0.1,
 ///  anchor_support: 0.5, min_support: 0.3, normalisation: product, conflict: 0.3,
-///  use_heading: true, tolerance_d: 0.5, tolerance_d_rel: 0.05, slope_d: 1.0, slope_d_rel: 0.05)
+///  use_heading: true, tolerance_d: 0.5, tolerance_d_rel: 0.05, slope_d: 1.0, slope_d_rel: 0.05,
+///  horizon_m: 50.0)
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -231,6 +240,13 @@ pub struct TrackerConfig {
     /// frame's evidence whole, as the bundled office recording (3–4 frames per metre) was
     /// tuned with.
     pub evidence_length_m: f64,
+    /// Longest path, metres (less the radii of both extents, as `L'_ij`), along which an
+    /// anchor's belief is carried: places farther from `P_i` along the graph get `R_ij = 0`
+    /// from it, by either gate. This is what keeps the tracker sparse on large maps (issue 16):
+    /// its memory and time grow with the places within the horizon, not with `n²`. Default
+    /// 50 m, beyond any path of the bundled maps, and beyond where the default gates, widening
+    /// 0.2 m per metre, still tell a path from its neighbours.
+    pub horizon_m: f64,
     /// Track on a metric grid over the place extents instead of along the graph
     /// ([`super::grid_tracker`]); then only `bias` and `min_support` of the fields above apply.
     /// Default `None` (the graph).
@@ -256,10 +272,14 @@ impl Default for TrackerConfig {
             slope_d: 1.0,
             slope_d_rel: 0.05,
             evidence_length_m: 0.0,
+            horizon_m: DEFAULT_HORIZON_M,
             grid: None,
         }
     }
 }
+
+/// The default [`TrackerConfig::horizon_m`], metres.
+pub const DEFAULT_HORIZON_M: f64 = 50.0;
 
 /// Why a tracker configuration could not be read.
 #[derive(Debug, thiserror::Error)]
@@ -324,6 +344,13 @@ impl TrackerConfig {
                 });
             }
         }
+        if !(self.horizon_m >= 0.0) {
+            return Err(TrackerConfigError::Range {
+                field: "horizon_m",
+                value: self.horizon_m,
+                range: "≥ 0",
+            });
+        }
         if let Some(g) = &self.grid {
             g.validate()
                 .map_err(|(field, value, range)| TrackerConfigError::Range {
@@ -361,7 +388,7 @@ pub struct Tracker {
     cfg: TrackerConfig,
     params: DecisionParams,
     n: usize,
-    /// `R_ij`'s trapezoid per pair, row-major, as three arrays (see [`Gates`]).
+    /// `R_ij`'s trapezoid per pair within the horizon, sparse rows (see [`Gates`]).
     gates: Gates,
     anchor: Vec<f64>,
     since: Vec<f64>,
@@ -370,11 +397,11 @@ pub struct Tracker {
     /// Heading of the previous frame, radians, once some frame carried one.
     heading: Option<f64>,
     pred: Vec<f64>,
-    /// `R_ij` at this step's distances, row-major: filled by the blur, reused by the revision
-    /// (`since` does not change in between).
+    /// `R_ij` at this step's distances, one per pair of [`Gates`]: filled by the blur for the
+    /// pairs of each row's window, reused by the revision (`since` does not change in between).
     reach: Vec<f64>,
-    /// Whether row `i` of `reach` was filled this step (else it is all zeros; see the blur).
-    live: Vec<bool>,
+    /// Per row, the pairs of `reach` filled this step (`R_ij = 0` outside; see the blur).
+    window: Vec<(usize, usize)>,
     /// Distance moved whose evidence has not been taken yet, metres; `None` before the first
     /// frame (see [`TrackerConfig::evidence_length_m`]). Not part of [`TrackerState`]: after a
     /// restore the first frame's evidence is taken whole.
@@ -395,30 +422,29 @@ fn extent_radius(e: Extent) -> f64 {
     }
 }
 
-/// `R_ij`'s trapezoid per pair as structure-of-arrays, encoded so that one branch-free
-/// expression ([`Gates::fill`]) gives exactly [`Trapezoid::degree`](crate::logic::Trapezoid::degree)`(s, L'_ij)` of the shape
-/// `core = 2(tolerance + tolerance_rel·L)`, `slope = slope + slope_rel·L`, height 1, bias 0, and
-/// 0 for pairs with no path:
+/// `R_ij`'s trapezoid per pair, kept sparse (issue 16): row `i` holds only the places within
+/// [`TrackerConfig::horizon_m`] of `P_i` along the graph (a bounded search per place, see
+/// [`crate::map::dijkstra`]), sorted by `L'_ij` so that the pairs a path gate can reach at
+/// distance `s` are one contiguous window ([`Gates::window`]). Pairs outside a row have
+/// `R_ij = 0`, as pairs with no path always had.
 ///
-/// - `half` is `0.5 · core` as `degree` computes it;
-/// - a slope that is not positive (only from an unvalidated config) is stored as `+0`, so that
-///   beyond the core `(d − half)/0 = +∞` and `max(0, 1 − ∞) = 0`, as `degree` returns there;
-/// - a pair with no path has `L = 0`, `half = −∞`, slope `+0`: `d ≤ −∞` never holds and
-///   `(d + ∞)/0 = +∞` gives 0. (`degree` itself is not asked: it would give the bias for an
-///   infinite distance, which is 0 too.)
-///
-/// `d = |s − L|` is always finite here (`s` is capped, `L` finite), so `degree`'s non-finite
-/// branch is never taken; `0 + (1 − 0)·f = f` exactly, as `f` is never NaN.
+/// One branch-free expression ([`GateRow::fill`]) gives exactly
+/// [`Trapezoid::degree`](crate::logic::Trapezoid::degree)`(s, L'_ij)` of the shape `core =
+/// 2(tolerance + tolerance_rel·L)`, `slope = slope + slope_rel·L`, height 1, bias 0: `half =
+/// tolerance + tolerance_rel·L` is `0.5 · core` exactly (scaling by 2 and ½ is exact), and a
+/// slope that is not positive (only from an unvalidated config) is taken as `+0`, so that beyond
+/// the core `(d − half)/0 = +∞` and `max(0, 1 − ∞) = 0`, as `degree` returns there. `d = |s − L|`
+/// is always finite (`s` is capped, `L` finite), so `degree`'s non-finite branch is never taken.
 #[derive(Debug, Clone)]
 struct Gates {
+    /// Row `i` is `start[i]..start[i + 1]` of `target` and `length`.
+    start: Vec<usize>,
+    /// `j` of each pair.
+    target: Vec<u32>,
+    /// `L'_ij` of each pair, ascending within a row (ties by `j`).
     length: Vec<f64>,
-    half: Vec<f64>,
-    slope: Vec<f64>,
-    /// Per row `i`, a distance beyond which every `R_ij` is 0: past `L + half + slope` of each
-    /// pair with a path, with a margin (10⁻⁶ relative and absolute) far above the rounding of
-    /// `d − half` and the division, so `1 − (d − half)/slope` is surely ≤ 0 (or, slope 0,
-    /// `d > half`). NaN (an unvalidated NaN config) compares false: the row is never skipped.
-    bound: Vec<f64>,
+    /// `tolerance`, `tolerance_rel`, `slope`, `slope_rel` of the configuration.
+    shape: [f64; 4],
     /// Each place's extent as a rounded box, for the displacement gates.
     extents: Vec<([f64; 4], f64)>,
 }
@@ -432,77 +458,122 @@ fn rounded_box(pose: (f64, f64), e: Extent) -> ([f64; 4], f64) {
     }
 }
 
-/// One row of [`Gates`]: the pairs `(i, ·)`.
+/// The pairs of one row that a path gate is evaluated on: `target[k]`, `length[k]`.
 struct GateRow<'a> {
     length: &'a [f64],
-    half: &'a [f64],
-    slope: &'a [f64],
+    shape: [f64; 4],
 }
 
 impl Gates {
     fn new(map: &Map, cfg: &TrackerConfig) -> Gates {
         let places = map.places();
         let n = places.len();
+        let radius: Vec<f64> = places.iter().map(|p| extent_radius(p.extent)).collect();
+        let widest = radius.iter().copied().fold(0.0, f64::max);
+        let horizon = if cfg.horizon_m.is_nan() {
+            f64::INFINITY
+        } else {
+            cfg.horizon_m
+        };
         let mut g = Gates {
-            length: vec![0.0; n * n],
-            half: vec![f64::NEG_INFINITY; n * n],
-            slope: vec![0.0; n * n],
-            bound: vec![0.0; n],
+            start: Vec::with_capacity(n + 1),
+            target: Vec::new(),
+            length: Vec::new(),
+            shape: [cfg.tolerance, cfg.tolerance_rel, cfg.slope, cfg.slope_rel],
             extents: places
                 .iter()
                 .map(|p| rounded_box((p.pose.0, p.pose.1), p.extent))
                 .collect(),
         };
+        let mut search = BoundedDijkstra::new();
+        let mut row: Vec<(f64, usize)> = Vec::new();
         for i in 0..n {
-            for j in 0..n {
-                let l = map.path_length(i, j);
+            g.start.push(g.target.len());
+            // `L' ≤ horizon` needs `L ≤ horizon + r_i + r_j`; the search goes that far with the
+            // widest `r_j`, the filter below keeps the exact set.
+            let reach = horizon + radius[i] + widest;
+            row.clear();
+            for (j, l) in map.path_lengths_within(i, reach, &mut search) {
                 let l = if i == j {
                     0.0
                 } else {
-                    (l - extent_radius(places[i].extent) - extent_radius(places[j].extent)).max(0.0)
+                    (l - radius[i] - radius[j]).max(0.0)
                 };
-                if !l.is_finite() {
-                    continue;
+                if l.is_finite() && l <= horizon {
+                    row.push((l, j));
                 }
-                let k = i * n + j;
-                let core = 2.0 * (cfg.tolerance + cfg.tolerance_rel * l);
-                let slope = cfg.slope + cfg.slope_rel * l;
-                g.length[k] = l;
-                g.half[k] = 0.5 * core;
-                g.slope[k] = if slope > 0.0 { slope } else { 0.0 };
-                let far = (l + g.half[k] + g.slope[k]) * (1.0 + 1e-6) + 1e-6;
-                // Not `f64::max`: a NaN must stick, so that the row is never skipped.
-                g.bound[i] = if far > g.bound[i] || far.is_nan() {
-                    far
-                } else {
-                    g.bound[i]
-                };
+            }
+            row.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            for &(l, j) in &row {
+                g.target.push(u32::try_from(j).unwrap_or(u32::MAX));
+                g.length.push(l);
             }
         }
+        g.start.push(g.target.len());
         g
     }
 
-    /// The rows, in order; `n` must be the number of places (rows of `n` pairs).
-    fn rows(&self, n: usize) -> impl Iterator<Item = GateRow<'_>> {
-        self.length
-            .chunks_exact(n)
-            .zip(self.half.chunks_exact(n))
-            .zip(self.slope.chunks_exact(n))
-            .map(|((length, half), slope)| GateRow {
-                length,
-                half,
-                slope,
-            })
+    /// The index range of row `i` (empty when out of range).
+    fn row(&self, i: usize) -> std::ops::Range<usize> {
+        match (self.start.get(i), self.start.get(i + 1)) {
+            (Some(&a), Some(&b)) => a..b,
+            _ => 0..0,
+        }
     }
 
-    /// `out[j] = R_ij` by displacement: the extent of anchor `i` moved by `d` against each
-    /// extent `j`, through `shape` (the gate at the anchor's distance, see [`displacement_gate`]).
-    fn fill_displacement(&self, i: usize, d: [f64; 2], shape: &Trapezoid, out: &mut [f64]) {
+    /// The pairs of row `i` whose path gate can be non-zero at distance `s`: those with
+    /// `|s − L| ≤ half + slope`, widened by a margin (10⁻⁶ relative and absolute) far above the
+    /// rounding of `d − half` and the division, so every pair left out surely has `R_ij = 0`.
+    /// With `a = tolerance_rel + slope_rel` and `c = tolerance + slope`, that is `L(1 − a) ≤ s + c`
+    /// and `L(1 + a) ≥ s − c`, both monotone in `L`, hence a window of the sorted row. A NaN
+    /// (an unvalidated config) keeps the whole row.
+    fn window(&self, i: usize, s: f64) -> std::ops::Range<usize> {
+        let row = self.row(i);
+        let [tol, tol_rel, slope, slope_rel] = self.shape;
+        let (a, c) = (tol_rel + slope_rel.max(0.0), tol + slope.max(0.0));
+        if !(a.is_finite() && c.is_finite()) {
+            return row;
+        }
+        let lengths = &self.length[row.clone()];
+        let near = |x: f64| x * (1.0 + 1e-6) + 1e-6;
+        let far = |x: f64| x * (1.0 - 1e-6) - 1e-6;
+        let lo = lengths.partition_point(|&l| near(l * (1.0 + a)) < s - c);
+        let hi = if a < 1.0 {
+            lengths.partition_point(|&l| far(l * (1.0 - a)) <= s + c)
+        } else {
+            lengths.len()
+        };
+        row.start + lo..row.start + hi.max(lo)
+    }
+
+    /// The path-gate view of the pairs in `range`.
+    fn pairs(&self, range: std::ops::Range<usize>) -> GateRow<'_> {
+        GateRow {
+            length: &self.length[range],
+            shape: self.shape,
+        }
+    }
+
+    /// `out[k] = R_ij` by displacement for the pairs `k` of `range` (row `i`): the extent of
+    /// anchor `i` moved by `d` against each extent `j`, through `shape` (the gate at the
+    /// anchor's distance, see [`displacement_gate`]).
+    fn fill_displacement(
+        &self,
+        i: usize,
+        range: std::ops::Range<usize>,
+        d: [f64; 2],
+        shape: &Trapezoid,
+        out: &mut [f64],
+    ) {
         let Some(&(a, ra)) = self.extents.get(i) else {
             return;
         };
         let moved = [a[0] + d[0], a[1] + d[0], a[2] + d[1], a[3] + d[1]];
-        for (o, (b, rb)) in out.iter_mut().zip(&self.extents) {
+        for (o, &j) in out.iter_mut().zip(&self.target[range]) {
+            let Some((b, rb)) = self.extents.get(j as usize) else {
+                *o = 0.0;
+                continue;
+            };
             let gx = (b[0] - moved[1]).max(moved[0] - b[1]).max(0.0);
             let gy = (b[2] - moved[3]).max(moved[2] - b[3]).max(0.0);
             let gap = (gx.hypot(gy) - ra - rb).max(0.0);
@@ -524,11 +595,14 @@ pub fn displacement_gate(cfg: &TrackerConfig, s: f64) -> Trapezoid {
 }
 
 impl GateRow<'_> {
-    /// `out[j] = R_ij` at distance `s` from anchor `i`.
+    /// `out[k] = R_ij` at distance `s` from anchor `i`, for the pairs of this window.
     #[inline]
     fn fill(&self, s: f64, out: &mut [f64]) {
-        let pairs = self.length.iter().zip(self.half).zip(self.slope);
-        for (o, ((&l, &half), &slope)) in out.iter_mut().zip(pairs) {
+        let [tol, tol_rel, slope0, slope_rel] = self.shape;
+        for (o, &l) in out.iter_mut().zip(self.length) {
+            let half = tol + tol_rel * l;
+            let slope = slope0 + slope_rel * l;
+            let slope = if slope > 0.0 { slope } else { 0.0 };
             let d = (s - l).abs();
             let f = (1.0 - (d - half) / slope).max(0.0);
             *o = if d <= half { 1.0 } else { f };
@@ -540,18 +614,20 @@ impl Tracker {
     /// A tracker over `map`, deciding with `params` (the rule file's threshold and margin).
     pub fn new(map: &Map, params: DecisionParams, cfg: TrackerConfig) -> Tracker {
         let n = map.places().len();
+        let gates = Gates::new(map, &cfg);
+        let pairs = gates.target.len();
         let mut t = Tracker {
             cfg,
             params,
             n,
-            gates: Gates::new(map, &cfg),
+            gates,
             anchor: vec![1.0; n],
             since: vec![0.0; n],
             disp: vec![Some([0.0; 2]); n],
             heading: None,
             pred: vec![1.0; n],
-            reach: vec![0.0; n * n],
-            live: vec![true; n],
+            reach: vec![0.0; pairs],
+            window: vec![(0, 0); n],
             pending_evidence: None,
             evid: vec![0.0; n],
             agree: vec![0.0; n],
@@ -607,38 +683,7 @@ impl Tracker {
             *e = if w == 1.0 { v } else { v.powf(w) };
         }
 
-        // Blur: carry each anchor along the graph. Every `R_ij` is computed (the revision needs
-        // them too), branch-free over a row so that the compiler can vectorise it; max and min
-        // select exactly, so the order of the terms does not change `pred`.
-        // An anchor farther than every path from it (`s_i` past its row's bound; common, as
-        // `s_i` grows until the place is seen again) has a row of zeros, which raises no `pred`
-        // and no `compat`: its row is skipped here and in the revision.
-        self.pred.fill(0.0);
-        if n > 0 {
-            let rows = self.reach.chunks_exact_mut(n).zip(self.gates.rows(n));
-            let anchors = self.anchor.iter().zip(&self.since).zip(&self.gates.bound);
-            for (i, ((((row, gate), live), ((&a, &s), &bound)), &moved)) in rows
-                .zip(self.live.iter_mut())
-                .zip(anchors)
-                .zip(&self.disp)
-                .enumerate()
-            {
-                if let Some(d) = moved {
-                    *live = true;
-                    let shape = displacement_gate(&self.cfg, s);
-                    self.gates.fill_displacement(i, d, &shape, row);
-                } else {
-                    *live = s <= bound || bound.is_nan();
-                    if !*live {
-                        continue;
-                    }
-                    gate.fill(s, row);
-                }
-                for (p, &r) in self.pred.iter_mut().zip(row.iter()) {
-                    *p = p.max(a.min(r));
-                }
-            }
-        }
+        self.blur();
 
         // Intersect with the evidence.
         let mut h = 0.0f64;
@@ -677,18 +722,7 @@ impl Tracker {
         {
             *g = p.min(e);
         }
-        if n > 0 {
-            let rows = self.reach.chunks_exact(n).zip(&self.live);
-            for (m, (row, &live)) in self.anchor.iter_mut().zip(rows) {
-                let mut compat = between;
-                if live {
-                    for (&r, &g) in row.iter().zip(&self.agree) {
-                        compat = compat.max(r.min(g));
-                    }
-                }
-                *m = t.apply(*m, compat.max(b));
-            }
-        }
+        self.revise(between, b);
         for j in 0..n {
             if ev(&evidence.support, j, 0.0) >= self.cfg.anchor_support {
                 self.anchor[j] = self.dist.possibility[j];
@@ -712,6 +746,61 @@ impl Tracker {
             ev(&evidence.support, k, 0.0)
         });
         self.decision
+    }
+
+    /// Blur: carries each anchor along the graph into `pred`, filling `reach` with every `R_ij`
+    /// that can be non-zero (the revision needs them too). Only the pairs within the horizon
+    /// are stored, and of those a path gate fills only its row's window ([`Gates::window`]): an
+    /// anchor farther than every path from it (common, as `s_i` grows until the place is seen
+    /// again) has an empty window and raises no `pred` and no `compat`. Max and min select
+    /// exactly, so neither the order of the terms nor the pairs left out (all `R_ij = 0`, and
+    /// `min(m_i, 0) = 0`) change `pred`.
+    fn blur(&mut self) {
+        self.pred.fill(0.0);
+        for i in 0..self.n {
+            let (a, s) = (self.anchor[i], self.since[i]);
+            let range = match self.disp[i] {
+                Some(d) => {
+                    let range = self.gates.row(i);
+                    let shape = displacement_gate(&self.cfg, s);
+                    let out = &mut self.reach[range.clone()];
+                    self.gates
+                        .fill_displacement(i, range.clone(), d, &shape, out);
+                    range
+                }
+                None => {
+                    let range = self.gates.window(i, s);
+                    let out = &mut self.reach[range.clone()];
+                    self.gates.pairs(range.clone()).fill(s, out);
+                    range
+                }
+            };
+            self.window[i] = (range.start, range.end);
+            let pairs = self.gates.target[range.clone()]
+                .iter()
+                .zip(&self.reach[range]);
+            for (&j, &r) in pairs {
+                if let Some(p) = self.pred.get_mut(j as usize) {
+                    *p = p.max(a.min(r));
+                }
+            }
+        }
+    }
+
+    /// Revises each anchor by how well the frame agrees with it: `m_i ← T(m_i, max(compat_i,
+    /// b))`, `compat_i = max(between, max_j min(R_ij, agree_j))` over the pairs the blur filled
+    /// (the others have `R_ij = 0`, which cannot raise a maximum that starts at `between ≥ 0`).
+    fn revise(&mut self, between: f64, b: f64) {
+        let t = self.cfg.tnorm;
+        for (m, &(lo, hi)) in self.anchor.iter_mut().zip(&self.window) {
+            let mut compat = between;
+            let pairs = self.gates.target[lo..hi].iter().zip(&self.reach[lo..hi]);
+            for (&j, &r) in pairs {
+                let g = self.agree.get(j as usize).copied().unwrap_or(0.0);
+                compat = compat.max(r.min(g));
+            }
+            *m = t.apply(*m, compat.max(b));
+        }
     }
 
     /// The power this frame's evidence is taken to (see

@@ -6,7 +6,6 @@
 
 use super::outline::Outline;
 use super::place::{corner_key, Expected, Extent, Landmark, Place, Room, DEFAULT_RADIUS};
-use super::shortest_paths::floyd_warshall;
 use super::{Map, PathInfo};
 use crate::syntax::ast::{self, Feature, LandmarkKind, MapFile, MapItem};
 use crate::syntax::diagnostic::{Diagnostic, DiagnosticKind};
@@ -51,7 +50,6 @@ impl Map {
             diags.sort_by_key(|d| d.span.start);
             return Err(diags);
         }
-        let distances = floyd_warshall(&graph, |p| p.length);
         Ok(Map {
             name: file.name.as_ref().map(|n| n.node.clone()),
             axis_deg,
@@ -60,7 +58,6 @@ impl Map {
             rooms,
             landmarks,
             graph,
-            distances,
         })
     }
 }
@@ -210,9 +207,16 @@ fn build_graph(
         graph.add_node(i);
     }
     let mut seen: BTreeMap<(usize, usize), Span> = BTreeMap::new();
+    // Names are unique by now (`declare_items`); a map, not a scan per path end, so that
+    // building stays O(paths · log places) on large maps.
+    let index: BTreeMap<&str, usize> = places
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (p.name.as_str(), i))
+        .collect();
     for item in &file.items {
         let MapItem::Path(path) = item else { continue };
-        if let Some((a, b, info)) = path_edge(path, places, &mut seen, diags) {
+        if let Some((a, b, info)) = path_edge(path, places, &index, &mut seen, diags) {
             graph.add_edge(NodeIndex::new(a), NodeIndex::new(b), info);
         }
     }
@@ -225,12 +229,12 @@ fn build_graph(
 fn path_edge(
     path: &ast::PathDecl,
     places: &[Place],
+    index: &BTreeMap<&str, usize>,
     seen: &mut BTreeMap<(usize, usize), Span>,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<(usize, usize, PathInfo)> {
-    let index = |name: &str| places.iter().position(|p: &Place| p.name == name);
     let ends = [&path.from, &path.to].map(|e| {
-        let i = index(&e.node);
+        let i = index.get(e.node.as_str()).copied();
         if i.is_none() {
             diags.push(Diagnostic::error(
                 DiagnosticKind::PathToUnknownPlace {

@@ -1,6 +1,6 @@
 //! The map model: places (with their expected walls, corners and parameters), rooms, beacons and
-//! landmarks, and the topological graph of paths between places with its all-pairs shortest path
-//! lengths. Built once from a checked map file ([`Map::from_ast`]) and then only read: the checker
+//! landmarks, and the topological graph of paths between places, searched for shortest path
+//! lengths on demand ([`dijkstra`]). Built once from a checked map file ([`Map::from_ast`]) and then only read: the checker
 //! resolves names against it, the compiler reads walls and parameters from it, the tracker reads
 //! path lengths, the metric layer reads extents.
 //!
@@ -8,14 +8,15 @@
 //! keep declaration order: a place's index is its id everywhere in lplace.
 
 mod build;
+pub mod dijkstra;
 pub mod expect;
 mod outline;
 mod place;
-pub mod shortest_paths;
 
 pub use outline::Outline;
 pub use place::{Expected, Extent, Landmark, Place, Room, DEFAULT_RADIUS};
 
+use dijkstra::BoundedDijkstra;
 use petgraph::graph::{NodeIndex, UnGraph};
 use serde::{Deserialize, Serialize};
 
@@ -41,8 +42,6 @@ pub struct Map {
     landmarks: Vec<Landmark>,
     /// Node weight = place index; node `i` is place `i`.
     graph: UnGraph<usize, PathInfo>,
-    /// Row-major `n × n` shortest path lengths; `f64::INFINITY` when unreachable.
-    distances: Vec<f64>,
 }
 
 /// A serialisable overview of a map (for `lplace check --format json` and reports).
@@ -112,13 +111,27 @@ impl Map {
     }
 
     /// Shortest path length between places `i` and `j` over the graph: 0 for `i == j`,
-    /// `f64::INFINITY` when unreachable or when either index is out of range.
+    /// `f64::INFINITY` when unreachable or when either index is out of range. One search
+    /// (see [`BoundedDijkstra::between`]); for many pairs from one place use
+    /// [`Map::path_lengths_within`].
     pub fn path_length(&self, i: usize, j: usize) -> f64 {
         let n = self.places.len();
         if i >= n || j >= n {
             return f64::INFINITY;
         }
-        self.distances[i * n + j]
+        BoundedDijkstra::new().between(&self.graph, i, j, |p| p.length)
+    }
+
+    /// Every place whose shortest path length from place `i` is at most `bound`, with that
+    /// length, sorted by place id (`i` itself at 0; nothing when `i` is out of range). `search`
+    /// holds the buffers, reused across calls (see [`BoundedDijkstra::within`]).
+    pub fn path_lengths_within(
+        &self,
+        i: usize,
+        bound: f64,
+        search: &mut BoundedDijkstra,
+    ) -> Vec<(usize, f64)> {
+        search.within(&self.graph, i, bound, |p| p.length)
     }
 
     /// The places joined to place `i` by a path, sorted by id, without duplicates.

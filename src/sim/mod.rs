@@ -29,6 +29,8 @@
 //! to 3 decimals, so a seed gives byte-identical output. Depends on `map`, `syntax` (rule
 //! bodies), `engine::frame` and `io::record`.
 
+pub mod large_map;
+
 use crate::core::angle::wrap_180;
 use crate::core::rng::SplitMix64;
 use crate::engine::{Engine, PerceptTable};
