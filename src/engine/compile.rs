@@ -764,12 +764,21 @@ fn global(
     negated: bool,
     group: Option<usize>,
 ) -> Reg {
-    let parts: Vec<Reg> = (0..map.places().len())
-        .filter_map(|ctx| match group {
-            None => d.acc.get(&(atom.clone(), negated, ctx)).copied(),
-            Some(g) => d.grouped.get(&(g, atom.clone(), negated, ctx)).copied(),
-        })
-        .collect();
+    // A range of the ordered map, contexts ascending: as a lookup per place but in time
+    // growing with the derivations, not with rooms × places (issue 16).
+    let n = map.places().len();
+    let parts: Vec<Reg> = match group {
+        None => d
+            .acc
+            .range((atom.clone(), negated, 0)..(atom.clone(), negated, n))
+            .map(|(_, &r)| r)
+            .collect(),
+        Some(g) => d
+            .grouped
+            .range((g, atom.clone(), negated, 0)..(g, atom.clone(), negated, n))
+            .map(|(_, &r)| r)
+            .collect(),
+    };
     b.fold(&parts, Op::Max, 0.0)
 }
 

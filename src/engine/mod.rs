@@ -27,6 +27,7 @@ pub mod compile;
 pub mod frame;
 pub mod grid_tracker;
 pub mod interpret;
+mod named_sets;
 pub mod outcome;
 pub mod query;
 pub mod tape;
@@ -42,6 +43,7 @@ use crate::map::Map;
 use crate::rules::{check_map_against_rules, check_rules, RuleSet};
 use crate::syntax::diagnostic::{Diagnostic, SourceFile};
 use crate::syntax::{parse_map, parse_rules};
+use named_sets::{NamedSets, Targets};
 use serde::{Deserialize, Serialize};
 
 /// The bundled example map (paper 003's office).
@@ -104,8 +106,8 @@ pub struct Engine {
     group_dists: Vec<PlaceDistribution>,
     rooms: RoomDegrees,
     regions: RoomDegrees,
-    room_sets: Vec<PlaceSet>,
-    region_sets: Vec<PlaceSet>,
+    room_sets: NamedSets,
+    region_sets: NamedSets,
     decision: Decision,
     sanitised: Sanitised,
 }
@@ -165,14 +167,18 @@ impl Engine {
         } else {
             0
         };
-        let room_sets = (0..map.rooms().len())
-            .map(|r| query::room_set(&map, r))
-            .collect();
-        let region_sets = rules
-            .regions
-            .iter()
-            .map(|(_, ks)| PlaceSet::from_indices(n, ks.iter().copied()))
-            .collect();
+        let room_sets = NamedSets::new(
+            (0..map.rooms().len())
+                .map(|r| query::room_set(&map, r))
+                .collect(),
+        );
+        let region_sets = NamedSets::new(
+            rules
+                .regions
+                .iter()
+                .map(|(_, ks)| PlaceSet::from_indices(n, ks.iter().copied()))
+                .collect(),
+        );
         let mut engine = Engine {
             regs: vec![0.0; compiled.tape.len()],
             dist: PlaceDistribution::new(n),
@@ -253,8 +259,10 @@ impl Engine {
         }
         self.dist.finish(logic.normalisation);
         let (d, regs, c) = (&self.dist, &self.regs, &self.compiled);
-        update_sets(d, regs, &c.rooms, &self.room_sets, &mut self.rooms);
-        update_sets(d, regs, &c.regions, &self.region_sets, &mut self.regions);
+        self.room_sets
+            .update(d, regs, &c.rooms, targets(&mut self.rooms));
+        self.region_sets
+            .update(d, regs, &c.regions, targets(&mut self.regions));
         self.decision = decide(
             &self.dist,
             DecisionParams {
@@ -371,18 +379,11 @@ impl Engine {
     }
 }
 
-/// Support (from the rules), Π and N of each named set of places.
-fn update_sets(
-    dist: &PlaceDistribution,
-    regs: &[f64],
-    support: &[u32],
-    sets: &[PlaceSet],
-    out: &mut RoomDegrees,
-) {
-    for (i, set) in sets.iter().enumerate() {
-        let reg = support.get(i).copied().unwrap_or(u32::MAX);
-        out.support[i] = clamp_degree(regs.get(reg as usize).copied().unwrap_or(0.0));
-        out.possibility[i] = dist.set_possibility(set);
-        out.necessity[i] = dist.set_necessity(set);
+/// The slices of `d` that [`NamedSets::update`] fills.
+fn targets(d: &mut RoomDegrees) -> Targets<'_> {
+    Targets {
+        support: &mut d.support,
+        possibility: &mut d.possibility,
+        necessity: &mut d.necessity,
     }
 }
