@@ -108,6 +108,8 @@ pub struct Engine {
     regions: RoomDegrees,
     room_sets: NamedSets,
     region_sets: NamedSets,
+    /// Scratch for [`named_sets::constrain_heads`], as long as the set heads.
+    head_order: Vec<(f64, usize)>,
     decision: Decision,
     sanitised: Sanitised,
 }
@@ -187,6 +189,7 @@ impl Engine {
             regions: degrees(rules.regions.len()),
             room_sets,
             region_sets,
+            head_order: Vec::with_capacity(compiled.set_heads.len()),
             decision: Decision::Disoriented(crate::logic::Disoriented::NoPlaces),
             sanitised: Sanitised::default(),
             map,
@@ -247,10 +250,14 @@ impl Engine {
         let logic = self.rules.logic;
         if self.group_dists.is_empty() {
             self.dist.fill_raw();
-            for h in &self.compiled.set_heads {
-                let degree = read(&self.regs, h.reg);
-                self.dist.constrain(&h.members, degree, h.negated);
-            }
+            let regs = &self.regs;
+            named_sets::constrain_heads(
+                &mut self.dist,
+                &self.compiled.set_heads,
+                None,
+                |r| read(regs, r),
+                &mut self.head_order,
+            );
         } else {
             self.fuse_groups();
         }

@@ -276,10 +276,15 @@ where
     let mut pos = 0;
     while pos < text.len() {
         let rest = &text[pos..];
-        if P::parse(trivia, rest).is_ok() {
+        // The item first, the trailing-trivia check only when it fails: a failed pest parse
+        // builds an error whose line lookup scans the input from its end, so checking the
+        // trivia before every item made parsing quadratic in the file's length (issue 16).
+        // An item is never pure trivia, so the order changes no outcome.
+        let parsed = P::parse(entry, rest);
+        if parsed.is_err() && P::parse(trivia, rest).is_ok() {
             break;
         }
-        match P::parse(entry, rest) {
+        match parsed {
             Ok(mut pairs) => {
                 // `entry` is `SOI ~ item`: its only child is the item.
                 let Some(item) = pairs.next().and_then(|e| e.into_inner().next()) else {
