@@ -443,6 +443,12 @@ struct Gates {
     target: Vec<u32>,
     /// `L'_ij` of each pair, ascending within a row (ties by `j`).
     length: Vec<f64>,
+    /// Per row `i`, a distance beyond which every path gate `R_ij` is 0: past `L + half +
+    /// slope` of its farthest pair, with a margin (10⁻⁶ relative and absolute) far above the
+    /// rounding of `d − half` and the division. Read before the row itself, so that the many
+    /// anchors far past every path from them (`s_i` grows until the place is seen again) cost
+    /// one comparison. NaN (an unvalidated NaN config) compares false: the row is never skipped.
+    bound: Vec<f64>,
     /// `tolerance`, `tolerance_rel`, `slope`, `slope_rel` of the configuration.
     shape: [f64; 4],
     /// Each place's extent as a rounded box, for the displacement gates.
@@ -479,6 +485,7 @@ impl Gates {
             start: Vec::with_capacity(n + 1),
             target: Vec::new(),
             length: Vec::new(),
+            bound: vec![0.0; n],
             shape: [cfg.tolerance, cfg.tolerance_rel, cfg.slope, cfg.slope_rel],
             extents: places
                 .iter()
@@ -507,6 +514,17 @@ impl Gates {
             for &(l, j) in &row {
                 g.target.push(u32::try_from(j).unwrap_or(u32::MAX));
                 g.length.push(l);
+                let (half, slope) = (
+                    cfg.tolerance + cfg.tolerance_rel * l,
+                    cfg.slope + cfg.slope_rel * l,
+                );
+                let far = (l + half + slope.max(0.0)) * (1.0 + 1e-6) + 1e-6;
+                // Not `f64::max`: a NaN must stick, so that the row is never skipped.
+                g.bound[i] = if far > g.bound[i] || far.is_nan() {
+                    far
+                } else {
+                    g.bound[i]
+                };
             }
         }
         g.start.push(g.target.len());
@@ -528,6 +546,9 @@ impl Gates {
     /// and `L(1 + a) ≥ s − c`, both monotone in `L`, hence a window of the sorted row. A NaN
     /// (an unvalidated config) keeps the whole row.
     fn window(&self, i: usize, s: f64) -> std::ops::Range<usize> {
+        if self.bound.get(i).is_some_and(|&b| s > b) {
+            return 0..0;
+        }
         let row = self.row(i);
         let [tol, tol_rel, slope, slope_rel] = self.shape;
         let (a, c) = (tol_rel + slope_rel.max(0.0), tol + slope.max(0.0));
