@@ -1,49 +1,21 @@
 //! The C API against its contract: the same decisions as the Rust engine on the bundled
 //! recording, a hand-worked frame, errors instead of crashes on null pointers, bad slots and
-//! broken files, and no allocation per step (a counting global allocator, as in the main
-//! crate's `tests/engine_alloc.rs`).
+//! broken files, and no allocation per step (the counting global allocator the main crate's
+//! `tests/alloc` uses, shared from `tests/support/counting_alloc.rs`).
 
-use std::alloc::{GlobalAlloc, Layout, System};
+#[path = "../../tests/support/counting_alloc.rs"]
+mod counting_alloc;
+
 use std::ffi::{c_char, CStr, CString};
 use std::ptr::{null, null_mut};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use lplace::engine::Engine;
 use lplace::io::record::FrameRecord;
 use lplace::logic::{Decision, Disoriented};
 use lplace_c::*;
 
-struct Counting;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-thread_local! {
-    /// Set only on the thread being watched: the other tests run in parallel and allocate.
-    static WATCHED: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-}
-
-fn count() {
-    if WATCHED.with(|w| w.get()) {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-    }
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        count();
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        count();
-        System.realloc(ptr, layout, new_size)
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: counting_alloc::Counting = counting_alloc::Counting;
 
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
 
@@ -330,8 +302,8 @@ fn clear_set_step_allocate_nothing() {
         inconsistency: 0.0,
         reason: 0,
     };
-    WATCHED.with(|w| w.set(true));
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    // Counted per thread: the other tests run in parallel and allocate.
+    let before = counting_alloc::allocations();
     let mut chosen = 0;
     for k in 0..1000i32 {
         unsafe {
@@ -349,7 +321,7 @@ fn clear_set_step_allocate_nothing() {
         }
         chosen += i32::from(d.place >= 0);
     }
-    let after = ALLOCATIONS.load(Ordering::SeqCst);
+    let after = counting_alloc::allocations();
     assert_eq!(
         after - before,
         0,

@@ -8,6 +8,11 @@
 //! With headings, the reference's displacement gate is the distance between the two extents
 //! written out per kind (disc–disc, disc–box, box–box), where the tracker treats every extent as
 //! a rounded box: the two must agree on every pair.
+//!
+//! The reference reads every pair from an all-pairs table (`Map::path_length` per pair); the
+//! tracker keeps only the pairs within its horizon, from bounded searches, sorted by length,
+//! and visits a window of them: a random horizon (none, 0, or cutting the small maps' paths)
+//! checks that what it leaves out is exactly what has `R_ij = 0`.
 
 use lplace::core::Odometry;
 use lplace::engine::tracker::{Tracker, TrackerConfig, TrackerState};
@@ -143,6 +148,12 @@ impl Reference {
     }
 
     fn reach(&self, i: usize, j: usize) -> f64 {
+        // Either gate looks only at places within the horizon along the graph (issue 16);
+        // places with no path at all are beyond every horizon.
+        let l = self.length[i][j];
+        if !(l.is_finite() && l <= self.cfg.horizon_m) {
+            return 0.0;
+        }
         if let Some(d) = self.disp[i] {
             let ((pa, a), (pb, b)) = (self.extents[i], self.extents[j]);
             let s = self.since[i];
@@ -333,12 +344,15 @@ fn config() -> impl Strategy<Value = TrackerConfig> {
         (unit(), tnorm, len(), len(), len(), len()),
         (unit(), unit(), norm, unit()),
         (any::<bool>(), len(), len(), len(), len()),
+        // The horizon: usually past every path of these small maps, sometimes cutting them.
+        prop_oneof![Just(f64::INFINITY), Just(0.0), 0.0..8.0f64],
     )
         .prop_map(
             |(
                 (bias, tnorm, tolerance, tolerance_rel, slope, slope_rel),
                 (anchor_support, min_support, normalisation, conflict),
                 (use_heading, tolerance_d, tolerance_d_rel, slope_d, slope_d_rel),
+                horizon_m,
             )| {
                 TrackerConfig {
                     bias,
@@ -357,6 +371,7 @@ fn config() -> impl Strategy<Value = TrackerConfig> {
                     slope_d,
                     slope_d_rel,
                     evidence_length_m: 0.0,
+                    horizon_m,
                     grid: None,
                 }
             },

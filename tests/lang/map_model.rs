@@ -188,3 +188,67 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    /// The tracker's bounded searches (issue 16) against the all-pairs reference: exactly the
+    /// places within the bound, at the reference's lengths. Bounds fall between multiples of
+    /// 0.1 m, so that no path sits on a bound where rounding could decide.
+    #[test]
+    fn bounded_searches_match_bellman_ford(
+        n in 1usize..10,
+        raw in prop::collection::vec((0usize..10, 0usize..10, 0u32..60), 0..30),
+        bound in 0u32..150,
+    ) {
+        let mut text = String::new();
+        for i in 0..n {
+            text.push_str(&format!("place N{i} junction at ({i}, 0);\n"));
+        }
+        let mut seen = std::collections::BTreeSet::new();
+        let mut edges = Vec::new();
+        for (a, b, w) in raw {
+            let (a, b) = (a % n, b % n);
+            if a == b || !seen.insert((a.min(b), a.max(b))) {
+                continue;
+            }
+            let w = f64::from(w) / 10.0;
+            text.push_str(&format!("path N{a} -- N{b} length {w};\n"));
+            edges.push((a, b, w));
+        }
+        let m = map(&text);
+        let want = bellman_ford(n, &edges);
+        let bound = f64::from(bound) / 10.0 + 0.05;
+        let mut search = lplace::map::dijkstra::BoundedDijkstra::new();
+        for i in 0..n {
+            let got = m.path_lengths_within(i, bound, &mut search);
+            let exp: Vec<usize> = (0..n).filter(|&j| want[i * n + j] <= bound).collect();
+            let got_ids: Vec<usize> = got.iter().map(|&(j, _)| j).collect();
+            prop_assert_eq!(&got_ids, &exp, "from N{} within {}", i, bound);
+            for (j, l) in got {
+                prop_assert!((l - want[i * n + j]).abs() < 1e-9, "{i}->{j}: {l}");
+            }
+        }
+        prop_assert!(m.path_lengths_within(n, bound, &mut search).is_empty());
+    }
+}
+
+/// Parallel edges keep the shorter, and a search stops at its bound (hand-worked).
+#[test]
+fn bounded_search_hand_worked() {
+    use lplace::map::dijkstra::BoundedDijkstra;
+    use petgraph::graph::UnGraph;
+    let mut g = UnGraph::<(), f64>::new_undirected();
+    let v: Vec<_> = (0..4).map(|_| g.add_node(())).collect();
+    g.add_edge(v[0], v[1], 4.0);
+    g.add_edge(v[0], v[1], 1.5); // parallel, shorter
+    g.add_edge(v[1], v[2], 1.0);
+    g.add_edge(v[2], v[3], 10.0);
+    let mut s = BoundedDijkstra::new();
+    assert_eq!(
+        s.within(&g, 0, 3.0, |&w| w),
+        vec![(0, 0.0), (1, 1.5), (2, 2.5)]
+    );
+    assert_eq!(s.within(&g, 3, 0.0, |&w| w), vec![(3, 0.0)]);
+    assert_eq!(s.between(&g, 0, 3, |&w| w), 12.5);
+    assert_eq!(s.between(&g, 2, 2, |&w| w), 0.0);
+    assert_eq!(s.between(&g, 0, 9, |&w| w), f64::INFINITY);
+}
