@@ -688,7 +688,6 @@ impl Tracker {
     ) -> Decision {
         let n = self.n;
         let b = clamp_degree(self.cfg.bias);
-        let t = self.cfg.tnorm;
         let ds = odometry.distance();
         let ds = if ds.is_finite() { ds } else { 0.0 };
         for s in &mut self.since {
@@ -706,33 +705,7 @@ impl Tracker {
 
         self.blur();
 
-        // Intersect with the evidence.
-        let mut h = 0.0f64;
-        let mut max_support = 0.0f64;
-        for j in 0..n {
-            let e = self.evid[j];
-            let a = ev(&evidence.support, j, 0.0);
-            max_support = max_support.max(a);
-            let c = t.apply(self.pred[j].max(b), e);
-            self.dist.support[j] = a;
-            self.dist.exclusion[j] = ev(&evidence.exclusion, j, 0.0);
-            self.dist.possibility_raw[j] = c;
-            h = h.max(c);
-        }
-        self.dist.height = h;
-        self.dist.inconsistency = 1.0 - h;
-        if h < self.cfg.conflict {
-            // Belief and evidence do not overlap: keep both (their union) rather than the
-            // little their intersection leaves, so that the next frames can tell which was right.
-            h = 0.0;
-            for j in 0..n {
-                let c = self.pred[j].max(self.evid[j]);
-                self.dist.possibility_raw[j] = c;
-                h = h.max(c);
-            }
-        }
-        // In the union case `possibility_raw` now holds the union, whose height normalises.
-        self.dist.normalise(self.cfg.normalisation);
+        let max_support = self.intersect(evidence, b);
 
         // Revise the anchors: keep those the frame agrees with, re-anchor supported places.
         let between = 1.0 - max_support;
@@ -767,6 +740,39 @@ impl Tracker {
             ev(&evidence.support, k, 0.0)
         });
         self.decision
+    }
+
+    /// Intersects the carried belief with the evidence (`c_j = T(max(pred_j, b), e_j)`, or
+    /// their union when they do not overlap, see the module docs), fills `dist` and normalises
+    /// it; returns the frame's highest support.
+    fn intersect(&mut self, evidence: &PlaceDistribution, b: f64) -> f64 {
+        let ev =
+            |v: &[f64], j: usize, missing: f64| clamp_degree(v.get(j).copied().unwrap_or(missing));
+        let t = self.cfg.tnorm;
+        let mut h = 0.0f64;
+        let mut max_support = 0.0f64;
+        for j in 0..self.n {
+            let e = self.evid[j];
+            let a = ev(&evidence.support, j, 0.0);
+            max_support = max_support.max(a);
+            let c = t.apply(self.pred[j].max(b), e);
+            self.dist.support[j] = a;
+            self.dist.exclusion[j] = ev(&evidence.exclusion, j, 0.0);
+            self.dist.possibility_raw[j] = c;
+            h = h.max(c);
+        }
+        self.dist.height = h;
+        self.dist.inconsistency = 1.0 - h;
+        if h < self.cfg.conflict {
+            // Belief and evidence do not overlap: keep both (their union) rather than the
+            // little their intersection leaves, so that the next frames can tell which was right.
+            for j in 0..self.n {
+                self.dist.possibility_raw[j] = self.pred[j].max(self.evid[j]);
+            }
+        }
+        // In the union case `possibility_raw` now holds the union, whose height normalises.
+        self.dist.normalise(self.cfg.normalisation);
+        max_support
     }
 
     /// Blur: carries each anchor along the graph into `pred`, filling `reach` with every `R_ij`
