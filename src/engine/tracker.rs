@@ -344,7 +344,7 @@ impl TrackerConfig {
                 });
             }
         }
-        if !(self.horizon_m >= 0.0) {
+        if self.horizon_m.is_nan() || self.horizon_m < 0.0 {
             return Err(TrackerConfigError::Range {
                 field: "horizon_m",
                 value: self.horizon_m,
