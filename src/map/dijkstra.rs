@@ -1,7 +1,7 @@
 //! Single-source shortest path lengths, bounded by a distance (Dijkstra with a binary heap).
 //!
 //! Depends only on petgraph's graph type. The tracker asks, once per place, for the places
-//! within the distance its gates can use ([`crate::map::Map::paths_within`]); a single pair
+//! within the distance its gates can use ([`crate::map::Map::path_lengths_within`]); a single pair
 //! ([`crate::map::Map::path_length`]) stops as soon as the target is settled. Replaces the
 //! all-pairs matrix (issue 16): time and memory now grow with what is asked for, not with
 //! `|V|²` or `|V|³`.
