@@ -6,8 +6,8 @@
 //! Place `i` sits at column `i mod w`, row `i div w` of a lattice `w = ⌈√n⌉` wide. Each 2 × 2
 //! block of places is one room whose four places are its corners (walls and corner of that
 //! side), so the office rules find the same kinds of evidence as in the office. Paths join each
-//! place to its east and north neighbours, and, seeded, to its north-east and north-west
-//! diagonal neighbours with probability ½ each: degree at most 4 + 2 = 6. One beacon stands in
+//! place to its east and north neighbours, and, seeded, to its north-east diagonal neighbour
+//! with probability ½: degree at most 4 + 2 = 6 (that diagonal out, and in from the south-west). One beacon stands in
 //! the middle; `A` and `L` of each place are its direction (degrees, map frame) and distance from
 //! the beacon, as in the office map.
 //!
@@ -60,9 +60,6 @@ pub fn lattice_office(n: usize, seed: u64) -> String {
         join(i + w);
         if c + 1 < w && rng.chance(0.5) {
             join(i + w + 1);
-        }
-        if c > 0 && rng.chance(0.5) {
-            join(i + w - 1);
         }
     }
     out
