@@ -119,14 +119,18 @@ pub fn main() -> ExitCode {
 
 /// Reads a file into a [`crate::syntax::diagnostic::SourceFile`] named as the user wrote it.
 fn read_source(path: &std::path::Path) -> Result<crate::syntax::diagnostic::SourceFile, CliError> {
-    let text = std::fs::read_to_string(path).map_err(|source| CliError::Read {
+    let bytes = std::fs::read(path).map_err(|source| CliError::Read {
         path: path.display().to_string(),
         source,
     })?;
-    Ok(crate::syntax::diagnostic::SourceFile::new(
-        path.display().to_string(),
-        text,
-    ))
+    // Not UTF-8: a diagnostic with line and column (exit 2), not an I/O error.
+    match crate::syntax::diagnostic::SourceFile::from_bytes(path.display().to_string(), bytes) {
+        (file, None) => Ok(file),
+        (file, Some(d)) => {
+            render::eprint(&file, std::slice::from_ref(&d));
+            Err(CliError::Diagnostics { count: 1 })
+        }
+    }
 }
 
 /// Loads the engine named by `--map/--rules` (bundled office files for those not given),

@@ -28,6 +28,30 @@ impl SourceFile {
             text: text.into(),
         }
     }
+
+    /// A source file from the bytes of a file: a UTF-8 byte-order mark is dropped (editors on
+    /// Windows write one); bytes that are not UTF-8 are shown as `�`, with an
+    /// [`DiagnosticKind::InvalidUtf8`] error at the first of them (so the caller can report it
+    /// with its line and column, and must not use the text).
+    pub fn from_bytes(name: impl Into<String>, mut bytes: Vec<u8>) -> (Self, Option<Diagnostic>) {
+        if bytes.starts_with(b"\xEF\xBB\xBF") {
+            bytes.drain(..3);
+        }
+        match String::from_utf8(bytes) {
+            Ok(text) => (SourceFile::new(name, text), None),
+            Err(e) => {
+                let at = e.utf8_error().valid_up_to();
+                let byte = e.as_bytes().get(at).copied().unwrap_or(0);
+                let text = String::from_utf8_lossy(e.as_bytes()).into_owned();
+                // The text before the bad byte is unchanged; `�` is 3 bytes long.
+                let d = Diagnostic::error(
+                    DiagnosticKind::InvalidUtf8 { byte },
+                    Span::new(at, at + '\u{FFFD}'.len_utf8()),
+                );
+                (SourceFile::new(name, text), Some(d))
+            }
+        }
+    }
 }
 
 /// How bad a diagnostic is.
@@ -144,6 +168,19 @@ pub enum DiagnosticKind {
     TooDeeplyNested {
         /// The nesting limit.
         limit: usize,
+    },
+    /// The file has so many syntax errors that the parser stopped looking (it is probably not
+    /// a map or rule file at all).
+    #[error("{count} syntax errors: stopped parsing here")]
+    TooManySyntaxErrors {
+        /// How many were reported before stopping.
+        count: usize,
+    },
+    /// The file is not UTF-8 text; the span covers the first offending byte, shown as `�`.
+    #[error("invalid UTF-8: byte 0x{byte:02x} is not part of a character")]
+    InvalidUtf8 {
+        /// The first byte that is not valid UTF-8.
+        byte: u8,
     },
     /// A number that is not finite (`1e999`).
     #[error("number `{text}` is out of range")]
@@ -507,6 +544,10 @@ impl DiagnosticKind {
         use DiagnosticKind as K;
         match self {
             K::Syntax { .. } => "check the punctuation here against the language examples in the README",
+            K::TooManySyntaxErrors { .. } => {
+                "fix the errors above first; is this really a map or rule file?"
+            }
+            K::InvalidUtf8 { .. } => "save the file as UTF-8 (maps and rules are UTF-8 text)",
             K::TooDeeplyNested { .. } => "split the formula into derived predicates",
             K::NumberOutOfRange { .. } => "write a finite number",
             K::DuplicateWeight => "write the weight once: `(body -> head, w)`",
@@ -689,8 +730,11 @@ fn write_plain(
         .nth(line - 1)
         .unwrap_or("")
         .trim_end_matches('\r');
-    writeln!(out, "    {source_line}")?;
     let line_chars = source_line.chars().count();
+    if line_chars > EXCERPT_CHARS {
+        return write_excerpt(out, source_line, line_chars, col, span, text);
+    }
+    writeln!(out, "    {source_line}")?;
     // Carets under the span's characters on its first line (one caret for an empty span).
     let mut start = span.start.min(text.len());
     while !text.is_char_boundary(start) {
@@ -706,6 +750,40 @@ fn write_plain(
         .map_or(0, |s| s.chars().count());
     let width = width.min(line_chars.saturating_sub(col - 1)).max(1);
     writeln!(out, "    {}{}", " ".repeat(col - 1), "^".repeat(width))
+}
+
+/// Lines longer than this many characters are shown as an excerpt around the span: a machine-made
+/// or corrupted file can put megabytes on one line, and reprinting it per problem would flood the
+/// terminal (and the memory of whoever captures stderr).
+pub const EXCERPT_CHARS: usize = 160;
+
+/// Writes the window of `source_line` around column `col` (1-based, in characters), `…` marking
+/// each cut end, and carets under the span clipped to the window.
+fn write_excerpt(
+    out: &mut String,
+    source_line: &str,
+    line_chars: usize,
+    col: usize,
+    span: Span,
+    text: &str,
+) -> fmt::Result {
+    use std::fmt::Write;
+    // The span's start sits a quarter into the window, so some context before it shows too.
+    let first = (col - 1)
+        .saturating_sub(EXCERPT_CHARS / 4)
+        .min(line_chars.saturating_sub(EXCERPT_CHARS));
+    let last = (first + EXCERPT_CHARS).min(line_chars);
+    let window: String = source_line.chars().skip(first).take(last - first).collect();
+    let left = if first > 0 { "…" } else { "" };
+    let right = if last < line_chars { "…" } else { "" };
+    writeln!(out, "    {left}{window}{right}")?;
+    let start = span.start.min(text.len());
+    let span_chars = text
+        .get(start..span.end.clamp(start, text.len()))
+        .map_or(1, |s| s.split('\n').next().map_or(0, |l| l.chars().count()));
+    let width = span_chars.min(last - (col - 1).min(last)).max(1);
+    let pad = (col - 1 - first) + usize::from(first > 0);
+    writeln!(out, "    {}{}", " ".repeat(pad), "^".repeat(width))
 }
 
 #[cfg(feature = "cli")]

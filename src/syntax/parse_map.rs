@@ -21,31 +21,25 @@ pub fn parse_map(text: &str) -> Result<MapFile, Vec<Diagnostic>> {
     let mut name: Option<Ident> = None;
     let mut items = Vec::new();
     let mut diags = Vec::new();
-    let syntax = parse_items::<MapGrammar, R>(
-        text,
-        R::item_entry,
-        R::only_trivia,
-        map_label,
-        |pair, base| {
-            let mut b = Builder {
-                base,
-                diags: &mut diags,
-            };
-            if pair.as_rule() == R::map_name {
-                let span = b.span(&pair);
-                if let Some(n) = pair.into_inner().nth(1) {
-                    if name.is_some() {
-                        b.diags
-                            .push(Diagnostic::error(DiagnosticKind::DuplicateMapName, span));
-                    } else {
-                        name = Some(b.ident(&n));
-                    }
+    let syntax = parse_items::<MapGrammar, R>(text, R::item_entry, map_label, |pair, base| {
+        let mut b = Builder {
+            base,
+            diags: &mut diags,
+        };
+        if pair.as_rule() == R::map_name {
+            let span = b.span(&pair);
+            if let Some(n) = pair.into_inner().nth(1) {
+                if name.is_some() {
+                    b.diags
+                        .push(Diagnostic::error(DiagnosticKind::DuplicateMapName, span));
+                } else {
+                    name = Some(b.ident(&n));
                 }
-            } else if let Some(item) = b.item(pair) {
-                items.push(item);
             }
-        },
-    );
+        } else if let Some(item) = b.item(pair) {
+            items.push(item);
+        }
+    });
     diags.extend(syntax);
     if diags.is_empty() {
         Ok(MapFile { name, items })

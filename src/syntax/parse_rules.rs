@@ -21,21 +21,15 @@ use pest::iterators::{Pair, Pairs};
 pub fn parse_rules(text: &str) -> Result<RuleFile, Vec<Diagnostic>> {
     let mut items = Vec::new();
     let mut diags = Vec::new();
-    let syntax = parse_items::<RulesGrammar, R>(
-        text,
-        R::item_entry,
-        R::only_trivia,
-        rules_label,
-        |pair, base| {
-            let mut b = Builder {
-                base,
-                diags: &mut diags,
-            };
-            if let Some(item) = b.item(pair) {
-                items.push(item);
-            }
-        },
-    );
+    let syntax = parse_items::<RulesGrammar, R>(text, R::item_entry, rules_label, |pair, base| {
+        let mut b = Builder {
+            base,
+            diags: &mut diags,
+        };
+        if let Some(item) = b.item(pair) {
+            items.push(item);
+        }
+    });
     diags.extend(syntax);
     if diags.is_empty() {
         Ok(RuleFile { items })

@@ -101,6 +101,30 @@ fn skip_string(bytes: &[u8], mut i: usize) -> usize {
     (i + 1).min(bytes.len())
 }
 
+/// How many syntax errors one file may report before the parser gives up on it: a binary or
+/// corrupted file would otherwise cost a pest error (a copy of the rest of its line) per item.
+pub const MAX_SYNTAX_ERRORS: usize = 100;
+
+/// True when `bytes` holds nothing but what the grammars' `WHITESPACE` and `COMMENT` accept
+/// (a block comment must be closed).
+fn only_trivia(bytes: &[u8]) -> bool {
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b' ' | b'\t' | b'\r' | b'\n' => i += 1,
+            b'/' if bytes.get(i + 1) == Some(&b'/') => i = skip_line_comment(bytes, i),
+            b'/' if bytes.get(i + 1) == Some(&b'*') => {
+                match bytes[i + 2..].windows(2).position(|w| w == b"*/") {
+                    Some(k) => i += 2 + k + 2,
+                    None => return false,
+                }
+            }
+            _ => return false,
+        }
+    }
+    true
+}
+
 /// Skips whitespace and comments from `i`.
 fn skip_trivia(bytes: &[u8], mut i: usize) -> usize {
     loop {
@@ -252,13 +276,17 @@ pub fn syntax_error<R: RuleType>(
 }
 
 /// Parses `text` item by item with grammar `P`: `entry` must match one item at the start of its
-/// input (`SOI ~ item`), `trivia` only whitespace and comments up to the end (`SOI ~ EOI`). Each
-/// parsed item is handed to `build` with the byte offset of the slice it was parsed from.
-/// Returns the syntax diagnostics (empty when the whole file parsed).
+/// input (`SOI ~ item`); the file ends where only whitespace and comments are left. Each parsed
+/// item is handed to `build` with the byte offset of the slice it was parsed from. Returns the
+/// syntax diagnostics (empty when the whole file parsed); after [`MAX_SYNTAX_ERRORS`] the parse
+/// stops with one more diagnostic saying so.
+///
+/// Time is linear in the text for files that parse: a failed pest parse copies the rest of its
+/// line into the error, so neither the end-of-file test nor anything else per item may fail a
+/// pest parse, and failures (which do) are capped.
 pub fn parse_items<P, R>(
     text: &str,
     entry: R,
-    trivia: R,
     label: fn(R) -> &'static str,
     mut build: impl FnMut(Pair<'_, R>, usize),
 ) -> Vec<Diagnostic>
@@ -276,15 +304,19 @@ where
     let mut pos = 0;
     while pos < text.len() {
         let rest = &text[pos..];
-        // The item first, the trailing-trivia check only when it fails: a failed pest parse
-        // builds an error whose line lookup scans the input from its end, so checking the
-        // trivia before every item made parsing quadratic in the file's length (issue 16).
-        // An item is never pure trivia, so the order changes no outcome.
-        let parsed = P::parse(entry, rest);
-        if parsed.is_err() && P::parse(trivia, rest).is_ok() {
+        if only_trivia(rest.as_bytes()) {
             break;
         }
-        match parsed {
+        if diags.len() == MAX_SYNTAX_ERRORS {
+            diags.push(Diagnostic::error(
+                DiagnosticKind::TooManySyntaxErrors {
+                    count: MAX_SYNTAX_ERRORS,
+                },
+                Span::new(pos, skip_item(text, pos)),
+            ));
+            break;
+        }
+        match P::parse(entry, rest) {
             Ok(mut pairs) => {
                 // `entry` is `SOI ~ item`: its only child is the item.
                 let Some(item) = pairs.next().and_then(|e| e.into_inner().next()) else {

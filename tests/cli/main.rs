@@ -8,4 +8,5 @@ mod cli_compare;
 mod cli_eval;
 mod cli_fuse;
 mod cli_grid;
+mod cli_hostile;
 mod cli_simulate;
