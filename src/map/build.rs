@@ -176,6 +176,12 @@ fn declare_items<'f>(
                     LandmarkKind::Beacon => "beacon",
                     LandmarkKind::Landmark => "landmark",
                 };
+                if let Some(id) = l.id.as_ref().filter(|i| u32::try_from(i.node).is_err()) {
+                    diags.push(Diagnostic::error(
+                        DiagnosticKind::BadLandmarkId { value: id.node },
+                        id.span,
+                    ));
+                }
                 if declare(&l.name, what, diags) {
                     landmarks.push(Landmark {
                         name: l.name.node.clone(),
@@ -273,6 +279,13 @@ fn path_edge(
     }
     seen.insert(key, path.span);
     let length = match &path.length {
+        Some(l) if l.node == 0.0 => {
+            diags.push(Diagnostic::error(
+                DiagnosticKind::ZeroLength { value: l.node },
+                l.span,
+            ));
+            return None;
+        }
         Some(l) if l.node < 0.0 => {
             diags.push(Diagnostic::error(
                 DiagnosticKind::NegativeLength {

@@ -91,6 +91,13 @@ impl RuleSet {
     }
 }
 
+/// How many ground rule instances (schema bindings × hypothesis places, summed over the file's
+/// rules) a rule file may ask the compiler for. The bundled office rules need 17 per place
+/// (170,000 on a 10,000-place map); an instance costs the compiler about 350 bytes and 5 µs
+/// (measured: 125,000 bindings × 8 places, 345 MB, 5.3 s), so the limit keeps compiling within
+/// about 350 MB.
+pub const MAX_GROUND_INSTANCES: u128 = 1_000_000;
+
 /// Checks `file` against `map`; returns the rule set or every problem found, sorted by position.
 /// Every returned diagnostic points into the rule file. Call [`check_map_against_rules`]
 /// afterwards for the problems of the map that only the rule file reveals.
@@ -109,6 +116,7 @@ pub fn check_rules(file: &RuleFile, map: &Map) -> Result<RuleSet, Vec<Diagnostic
             groups: Vec::new(),
         },
         domain_spans: BTreeMap::new(),
+        grounded: 0,
     };
     c.builtin_domains();
     c.regions(file);
@@ -157,6 +165,8 @@ struct Checker<'m> {
     diags: Vec<Diagnostic>,
     set: RuleSet,
     domain_spans: BTreeMap<String, Span>,
+    /// Ground instances (schema bindings × hypothesis places) of the rules checked so far.
+    grounded: u128,
 }
 
 /// What a rule binds: schema variables (with their candidate values) and percept value
@@ -580,6 +590,7 @@ impl Checker<'_> {
         for s in &r.schemas {
             self.schema(s, &uses, &mut b);
         }
+        self.grounding_budget(r);
         collect_values(&r.body.node, &self.set, &mut b.values);
         self.formula(&r.body, &b);
         if let Some(w) = &r.weight {
@@ -610,6 +621,37 @@ impl Checker<'_> {
             );
         }
         self.set.rules.push(r.clone());
+    }
+
+    /// Counts the ground instances the compiler would make of `r` (one per schema binding and
+    /// hypothesis place) and reports the rule at its schemas when the file's total passes
+    /// [`MAX_GROUND_INSTANCES`] — from the sizes alone, before anything is allocated: three
+    /// nested `for all` over a 100-value domain once made the compiler abort out of memory.
+    fn grounding_budget(&mut self, r: &Rule) {
+        let bindings = r.schemas.iter().fold(1u128, |n, s| {
+            let size = match &s.source {
+                SchemaSource::Domain(d) => self.set.domains.get(&d.node).map_or(0, Vec::len),
+                SchemaSource::Tuples(ts) => ts.len(),
+            };
+            n.saturating_mul(size as u128)
+        });
+        let instances = bindings.saturating_mul(self.map.places().len().max(1) as u128);
+        let before = self.grounded;
+        self.grounded = before.saturating_add(instances);
+        if before <= MAX_GROUND_INSTANCES && self.grounded > MAX_GROUND_INSTANCES {
+            let span = match (r.schemas.first(), r.schemas.last()) {
+                (Some(first), Some(last)) => first.span.join(last.span),
+                _ => r.span,
+            };
+            self.err(
+                DiagnosticKind::GroundingBudget {
+                    instances,
+                    total: self.grounded,
+                    limit: MAX_GROUND_INSTANCES,
+                },
+                span,
+            );
+        }
     }
 
     fn schema(&mut self, s: &Schema, uses: &BTreeMap<String, String>, b: &mut Bindings) {

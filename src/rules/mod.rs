@@ -7,4 +7,6 @@
 
 mod check;
 
-pub use check::{check_map_against_rules, check_rules, is_place_head, RuleSet, Signature};
+pub use check::{
+    check_map_against_rules, check_rules, is_place_head, RuleSet, Signature, MAX_GROUND_INSTANCES,
+};

@@ -333,6 +333,32 @@ pub enum DiagnosticKind {
         /// The value.
         value: f64,
     },
+    /// A path length of 0: two places with no distance between them are one place, and the
+    /// tracker divides travelled distance by path lengths.
+    #[error("path length must be positive, found {value}")]
+    ZeroLength {
+        /// The value.
+        value: f64,
+    },
+    /// A landmark id outside what sensors report (0 ..= 4294967295).
+    #[error("landmark id must be between 0 and {}, found {value}", u32::MAX)]
+    BadLandmarkId {
+        /// The id as written.
+        value: i64,
+    },
+    /// The rules would ground to more instances than the compiler is allowed to make.
+    #[error(
+        "this rule grounds to {instances} instances (schema bindings × places), bringing the \
+         file to {total}; the limit is {limit}"
+    )]
+    GroundingBudget {
+        /// Instances of this rule.
+        instances: u128,
+        /// Instances of the file's rules up to and including this one.
+        total: u128,
+        /// The limit (`rules::MAX_GROUND_INSTANCES`).
+        limit: u128,
+    },
     /// A parameter range whose ends are in the wrong order.
     #[error("parameter range is empty ({low} > {high})")]
     EmptyRange {
@@ -575,6 +601,11 @@ impl DiagnosticKind {
             K::UnknownField { .. } => "trapezoid fields are core, slope, height, bias and period",
             K::BadFieldValue { .. } => "core, slope and period are non-negative; 0 ≤ bias ≤ height ≤ 1",
             K::NegativeLength { .. } => "lengths and radii are distances in metres",
+            K::GroundingBudget { .. } => {
+                "use a smaller domain or tuple list, or a derived predicate per dimension instead of nesting `for all`"
+            }
+            K::ZeroLength { .. } => "give the path's length in metres, or merge the two places",
+            K::BadLandmarkId { .. } => "ids are the non-negative numbers the sensor reports (e.g. MRCLAM barcode subjects)",
             K::InvalidBox { .. } => "write the box as (x0, y0, x1, y1) with x0 ≤ x1 and y0 ≤ y1",
             K::EmptyRange { .. } => "write the range low end first: `param W = 1.5 .. 2.5;`",
             K::ExpectWithoutSimilarity { .. } => "add `~ similarity_name` before the `;`",

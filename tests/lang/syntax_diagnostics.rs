@@ -77,6 +77,11 @@ const CASES: &[(&str, &[Expected])] = &[
         "expect_without_similarity.lpl",
         &[("ExpectWithoutSimilarity", 1, 9)],
     ),
+    ("grounding_budget.lpl", &[("GroundingBudget", 6, 4)]),
+    (
+        "map_bad_landmark_id.map",
+        &[("BadLandmarkId", 1, 26), ("BadLandmarkId", 2, 26)],
+    ),
     (
         "map_degree_out_of_range.map",
         &[("DegreeOutOfRange", 2, 16), ("DegreeOutOfRange", 3, 23)],
@@ -100,6 +105,7 @@ const CASES: &[(&str, &[Expected])] = &[
     ),
     ("map_unknown_direction.map", &[("UnknownDirection", 4, 18)]),
     ("map_unknown_room.map", &[("UnknownRoom", 3, 20)]),
+    ("map_zero_length.map", &[("ZeroLength", 3, 22)]),
     ("never_fires.lpl", &[("RuleNeverFires", 5, 1)]),
     (
         "reserved_name.lpl",
