@@ -19,7 +19,9 @@
 //! A line that is not a record of the right shape, a format version other than
 //! [`FORMAT_VERSION`], a percept the rule file does not declare, a NaN (JSON has no NaN, so the
 //! strings `"NaN"`/`"nan"` are read as NaN in order to *report* them; CSV `nan` likewise), a degree
-//! outside `[0, 1]`, an infinite value, a percept given twice, a time earlier than the previous
+//! outside `[0, 1]`, an infinite value, a percept given twice, a key the format does not define or
+//! a key given twice (in the record, a percept, the truth or the odometry: a misspelt
+//! `odometri` must not silently drop the odometry), a time earlier than the previous
 //! accepted record's, non-finite odometry, an unknown truth place, and lines longer than
 //! [`MAX_LINE`]. A skipped record contributes nothing — not even its odometry. Blank lines are
 //! ignored (they are not records).
@@ -254,6 +256,23 @@ pub enum Rejection {
         /// The percept instance.
         instance: String,
     },
+    /// A key the format does not define (a misspelling such as `odometri` would otherwise drop
+    /// its value silently).
+    #[error("unknown key `{key}` in {within}")]
+    UnknownKey {
+        /// The key as written.
+        key: String,
+        /// `record`, `percept` or `truth`.
+        within: &'static str,
+    },
+    /// A key given twice in one object (which one counts would be a guess).
+    #[error("key `{key}` given twice in {within}")]
+    DuplicateKey {
+        /// The key.
+        key: String,
+        /// `record`, `percept` or `truth`.
+        within: &'static str,
+    },
     /// A time earlier than the previous accepted record's.
     #[error("time goes backwards: t = {t} after t = {previous}")]
     TimeBackwards {
@@ -295,6 +314,8 @@ impl Rejection {
             Rejection::DegreeRange { .. } => "degree_out_of_range",
             Rejection::Infinite { .. } => "not_finite",
             Rejection::Duplicate { .. } => "duplicate_percept",
+            Rejection::UnknownKey { .. } => "unknown_key",
+            Rejection::DuplicateKey { .. } => "duplicate_key",
             Rejection::TimeBackwards { .. } => "time_backwards",
             Rejection::UnknownTruthPlace { .. } => "unknown_truth_place",
             Rejection::UnknownRegion { .. } => "unknown_region",
@@ -328,6 +349,8 @@ pub enum ReadOutcome {
 #[derive(Debug, Default)]
 pub(crate) struct Scratch {
     name: String,
+    /// The key being read (serde path).
+    key: String,
     args: Vec<String>,
     nargs: usize,
     /// `seen[slot] == stamp` when the slot was set in the current record.
@@ -1030,8 +1053,7 @@ impl<'de> Deserialize<'de> for OptNum {
     }
 }
 
-#[derive(Deserialize)]
-#[serde(field_identifier, rename_all = "lowercase")]
+#[derive(Clone, Copy)]
 enum RecordKey {
     Version,
     T,
@@ -1040,31 +1062,97 @@ enum RecordKey {
     Percepts,
     Truth,
     Region,
-    #[serde(other)]
-    Other,
 }
 
-#[derive(Deserialize)]
-#[serde(field_identifier, rename_all = "lowercase")]
+impl RecordKey {
+    fn parse(key: &str) -> Option<Self> {
+        Some(match key {
+            "version" => Self::Version,
+            "t" => Self::T,
+            "odometry" => Self::Odometry,
+            "heading" => Self::Heading,
+            "percepts" => Self::Percepts,
+            "truth" => Self::Truth,
+            "region" => Self::Region,
+            _ => return None,
+        })
+    }
+}
+
+#[derive(Clone, Copy)]
 enum PerceptKey {
     Name,
     Args,
     Value,
     Degree,
-    #[serde(other)]
-    Other,
 }
 
-#[derive(Deserialize)]
-#[serde(field_identifier, rename_all = "lowercase")]
+impl PerceptKey {
+    fn parse(key: &str) -> Option<Self> {
+        Some(match key {
+            "name" => Self::Name,
+            "args" => Self::Args,
+            "value" => Self::Value,
+            "degree" => Self::Degree,
+            _ => return None,
+        })
+    }
+}
+
+#[derive(Clone, Copy)]
 enum TruthKey {
     Place,
     Pose,
-    #[serde(other)]
-    Other,
+}
+
+impl TruthKey {
+    fn parse(key: &str) -> Option<Self> {
+        Some(match key {
+            "place" => Self::Place,
+            "pose" => Self::Pose,
+            _ => return None,
+        })
+    }
+}
+
+/// Reads the next key of an object of kind `within` and resolves it with `parse`. Returns
+/// `Ok(None)` at the end of the object, `Ok(Some(None))` for a key to skip: unknown or already
+/// seen (bit `index` of `seen`), which becomes the record's problem unless it already has one.
+fn next_key<'de, A: MapAccess<'de>, K: Copy>(
+    map: &mut A,
+    ctx: &mut Ctx<'_>,
+    seen: &mut u8,
+    within: &'static str,
+    parse: fn(&str) -> Option<K>,
+    index: fn(K) -> u8,
+) -> Result<Option<Option<K>>, A::Error> {
+    if map.next_key_seed(StrInto(&mut ctx.scratch.key))?.is_none() {
+        return Ok(None);
+    }
+    let key = ctx.scratch.key.as_str();
+    let problem = match parse(key) {
+        Some(k) if *seen & (1 << index(k)) == 0 => {
+            *seen |= 1 << index(k);
+            return Ok(Some(Some(k)));
+        }
+        Some(_) => Rejection::DuplicateKey {
+            key: key.to_string(),
+            within,
+        },
+        None => Rejection::UnknownKey {
+            key: key.to_string(),
+            within,
+        },
+    };
+    if ctx.problem.is_none() {
+        *ctx.problem = Some(problem);
+    }
+    map.next_value::<IgnoredAny>()?;
+    Ok(Some(None))
 }
 
 #[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
 struct OdometryWire {
     #[serde(default)]
     dx: Num,
@@ -1090,7 +1178,11 @@ impl<'de> Visitor<'de> for RecordSeed<'_, '_> {
     }
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
         let ctx = self.0;
-        while let Some(key) = map.next_key::<RecordKey>()? {
+        let mut seen = 0u8;
+        while let Some(key) = next_key(&mut map, ctx, &mut seen, "record", RecordKey::parse, |k| {
+            k as u8
+        })? {
+            let Some(key) = key else { continue };
             match key {
                 RecordKey::Version => ctx.version = Some(map.next_value::<u64>()?),
                 RecordKey::T => ctx.meta.t = map.next_value::<OptNum>()?.0,
@@ -1121,9 +1213,6 @@ impl<'de> Visitor<'de> for RecordSeed<'_, '_> {
                         }
                         None => {}
                     }
-                }
-                RecordKey::Other => {
-                    map.next_value::<IgnoredAny>()?;
                 }
             }
         }
@@ -1174,7 +1263,16 @@ impl<'de> Visitor<'de> for PerceptSeed<'_, '_> {
         let mut degree = None;
         let mut value = None;
         ctx.scratch.nargs = 0;
-        while let Some(key) = map.next_key::<PerceptKey>()? {
+        let mut seen = 0u8;
+        while let Some(key) = next_key(
+            &mut map,
+            ctx,
+            &mut seen,
+            "percept",
+            PerceptKey::parse,
+            |k| k as u8,
+        )? {
+            let Some(key) = key else { continue };
             match key {
                 PerceptKey::Name => {
                     map.next_value_seed(StrInto(&mut ctx.scratch.name))?;
@@ -1186,9 +1284,6 @@ impl<'de> Visitor<'de> for PerceptSeed<'_, '_> {
                 }
                 PerceptKey::Value => value = map.next_value::<OptNum>()?.0,
                 PerceptKey::Degree => degree = Some(map.next_value::<Num>()?.0),
-                PerceptKey::Other => {
-                    map.next_value::<IgnoredAny>()?;
-                }
             }
         }
         if !has_name {
@@ -1295,7 +1390,11 @@ impl<'de> Visitor<'de> for TruthSeed<'_, '_> {
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
         let ctx = self.0;
         ctx.meta.truth_known = true;
-        while let Some(key) = map.next_key::<TruthKey>()? {
+        let mut seen = 0u8;
+        while let Some(key) = next_key(&mut map, ctx, &mut seen, "truth", TruthKey::parse, |k| {
+            k as u8
+        })? {
+            let Some(key) = key else { continue };
             match key {
                 TruthKey::Place => {
                     let place = map.next_value_seed(PlaceSeed(ctx.schema))?;
@@ -1312,9 +1411,6 @@ impl<'de> Visitor<'de> for TruthSeed<'_, '_> {
                     ctx.meta.truth_pose = map
                         .next_value::<Option<[Num; 3]>>()?
                         .map(|p| [p[0].0, p[1].0, p[2].0]);
-                }
-                TruthKey::Other => {
-                    map.next_value::<IgnoredAny>()?;
                 }
             }
         }

@@ -10,4 +10,5 @@ mod evidence_per_metre;
 mod extract_rosbag2;
 mod intel_accuracy;
 mod stream_fastpath;
+mod stream_hostile;
 mod stream_readahead;
