@@ -8,6 +8,7 @@ mod support;
 mod buildings;
 mod evidence_per_metre;
 mod extract_rosbag2;
+mod fuzz_corpus;
 mod intel_accuracy;
 mod stream_fastpath;
 mod stream_hostile;

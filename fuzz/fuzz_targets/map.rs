@@ -1,0 +1,3 @@
+//! Fuzz target: arbitrary bytes through `lplace_fuzz::map`.
+#![no_main]
+libfuzzer_sys::fuzz_target!(|data: &[u8]| lplace_fuzz::map(data));
