@@ -193,10 +193,13 @@ fn read<T>(
     parse: impl FnMut(&[u8]) -> Result<T, MrclamError>,
 ) -> Result<T, DatasetError> {
     let path = dir.join(name);
-    let text = std::fs::read_to_string(&path).map_err(|source| DatasetError::Open {
+    let bytes = std::fs::read(&path).map_err(|source| DatasetError::Open {
         path: path.clone(),
         source,
     })?;
+    // Bytes that are not UTF-8 become `�`, which no field parses as: that line alone is
+    // skipped and reported like any malformed line, rather than the whole file failing.
+    let text = String::from_utf8_lossy(&bytes);
     match read_lenient(&text, parse) {
         Ok((v, errors)) => {
             skipped.extend(errors.into_iter().map(|error| SkippedLine {

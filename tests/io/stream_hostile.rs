@@ -70,3 +70,35 @@ fn an_unknown_odometry_component_is_malformed() {
         );
     }
 }
+
+/// Issue 16 row 5: one byte that is not UTF-8 in an MRCLAM file skipped that line's reader
+/// entirely (`stream did not contain valid UTF-8`, the whole run lost). Now the line alone is
+/// skipped and reported with its number; the good rows survive.
+#[test]
+fn a_non_utf8_byte_in_an_mrclam_file_skips_only_its_line() {
+    use lplace::io::mrclam::MrclamError;
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("mrclam-not-utf8");
+    std::fs::create_dir_all(&dir).expect("scratch");
+    let files: [(&str, &[u8]); 4] = [
+        ("Barcodes.dat", b"# header\n1 5\n6 63\n"),
+        (
+            "Robot1_Odometry.dat",
+            b"10.0 0.1 0.0\n10.5 \xff 0.0\n11.0 0.0 0.0\n11.5 0.0 0.0\n",
+        ),
+        ("Robot1_Measurement.dat", b"10.5 63 2.0 0.1\n"),
+        (
+            "Robot1_Groundtruth.dat",
+            b"10.0 0.0 0.0 0.0\n11.0 0.1 0.0 0.0\n",
+        ),
+    ];
+    for (name, bytes) in files {
+        std::fs::write(dir.join(name), bytes).expect("scratch");
+    }
+    let d = lplace::io::mrclam_dir::load(&dir, &[1]).expect("the dataset loads");
+    assert_eq!(d.skipped.len(), 1);
+    assert!(d.skipped[0].path.ends_with("Robot1_Odometry.dat"));
+    assert!(matches!(
+        d.skipped[0].error,
+        MrclamError::Malformed { line: 2, .. }
+    ));
+}
