@@ -78,6 +78,19 @@ pub enum Command {
     /// prints how the written map does on the later visits. Exit 0, 3 when some stream lines
     /// were malformed, 2 for bad map, rules or labels, 1 when a file cannot be read or written.
     Survey(super::survey::SurveyArgs),
+    /// Print a shell completion script on stdout, e.g.
+    /// `lplace completions bash > ~/.local/share/bash-completion/completions/lplace`.
+    Completions(CompletionsArgs),
+    /// Print the man page (roff) on stdout, e.g. `lplace man > lplace.1; man ./lplace.1`.
+    Man,
+}
+
+/// `lplace completions`.
+#[derive(Debug, Args)]
+pub struct CompletionsArgs {
+    /// The shell.
+    #[arg(value_enum)]
+    pub shell: clap_complete::Shell,
 }
 
 /// The map and rules to load.
@@ -124,11 +137,13 @@ pub struct ExplainArgs {
     pub query: Option<String>,
 }
 
-/// Output formats.
+/// What goes to stdout: the same four words on every command.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
-    /// One JSON object.
+    /// JSON (for a stream of records: one object per line, as jsonl).
     Json,
+    /// One JSON object per line.
+    Jsonl,
     /// A human-readable table.
     Table,
     /// Comma-separated values with a header.
@@ -161,19 +176,24 @@ pub struct EvalArgs {
     /// The map and rules.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Percept stream: JSON Lines (.jsonl) or CSV (.csv); `-` reads stdin. Default: the
-    /// bundled office recording.
+    /// Percept streams: JSON Lines (.jsonl) or CSV (.csv); `-` reads stdin; a folder stands
+    /// for its .jsonl and .csv files. Default: the bundled office recording. With more than one
+    /// stream (or a folder), prints one summary row per stream and a total instead of decisions.
     #[arg(value_name = "STREAM", conflicts_with = "frame")]
-    pub stream: Option<PathBuf>,
+    pub stream: Vec<PathBuf>,
     /// One frame as JSON, e.g. '{"percepts":[{"name":"sonar_wall","args":["North"],"degree":0.8}]}'.
     #[arg(long, value_name = "JSON")]
     pub frame: Option<String>,
     /// Also list the rule instances that fired and how strongly (--frame only).
     #[arg(long)]
     pub trace: bool,
-    /// Output format: one JSON object per frame (json), csv, or an aligned table.
-    #[arg(long, value_enum, default_value_t = Format::Json)]
-    pub format: Format,
+    /// Output format: one JSON object per frame (json, jsonl), csv, or an aligned table.
+    /// Default: jsonl for a stream (pretty json for --frame); table for several streams.
+    #[arg(long, value_enum)]
+    pub format: Option<Format>,
+    /// Write the decisions (or the batch table) to this file instead of stdout.
+    #[arg(long, short, value_name = "FILE")]
+    pub output: Option<PathBuf>,
     /// Stream form; default from the extension (.csv is CSV, else JSON Lines).
     #[arg(long, value_enum, value_name = "FORM")]
     pub input: Option<StreamForm>,
@@ -198,13 +218,38 @@ pub struct EvalArgs {
     #[arg(long, value_name = "RON")]
     pub tracker: Option<PathBuf>,
     /// Draw the run (per place Π and N over frames, chosen place, truth) as SVG.
-    #[arg(long, value_name = "SVG")]
-    pub plot: Option<PathBuf>,
+    #[arg(long, value_name = "FILE")]
+    pub svg: Option<PathBuf>,
     /// Draw the truth poses over the map's places, one dot per frame coloured by the decision
     /// (right, wrong, disoriented), as SVG. Frames without a truth pose are left out; one point
     /// per frame is kept until the end.
-    #[arg(long, value_name = "SVG")]
+    #[arg(long, value_name = "FILE")]
+    pub trajectory_svg: Option<PathBuf>,
+    /// Old spelling of --svg.
+    #[arg(long, value_name = "SVG", hide = true, conflicts_with = "svg")]
+    pub plot: Option<PathBuf>,
+    /// Old spelling of --trajectory-svg.
+    #[arg(
+        long,
+        value_name = "SVG",
+        hide = true,
+        conflicts_with = "trajectory_svg"
+    )]
     pub trajectory: Option<PathBuf>,
+}
+
+impl EvalArgs {
+    /// The run display's file (`--svg`, or the old `--plot`).
+    pub fn svg(&self) -> Option<&std::path::Path> {
+        self.svg.as_deref().or(self.plot.as_deref())
+    }
+
+    /// The trajectory picture's file (`--trajectory-svg`, or the old `--trajectory`).
+    pub fn trajectory_svg(&self) -> Option<&std::path::Path> {
+        self.trajectory_svg
+            .as_deref()
+            .or(self.trajectory.as_deref())
+    }
 }
 
 /// `lplace simulate`.
@@ -261,6 +306,12 @@ pub struct SimulateArgs {
 /// A flag value that parsed but makes no sense.
 #[derive(Debug, thiserror::Error)]
 pub enum ArgError {
+    /// A folder given as a stream holds no .jsonl or .csv file.
+    #[error("folder `{0}` holds no .jsonl or .csv stream")]
+    EmptyFolder(String),
+    /// A flag about one stream's frames, given with several streams.
+    #[error("{0} is about one stream's frames; not with several streams")]
+    NotInBatch(&'static str),
     /// `--place` names no place of the map.
     #[error("no place `{name}` in the map (places: {known})")]
     UnknownPlace {
@@ -298,6 +349,28 @@ pub enum ArgError {
         /// The predicates there are.
         known: String,
     },
+}
+
+impl Cli {
+    /// Notes for the old spellings used on this command line (one release of grace; see the
+    /// README's "Command line" section), to print on stderr.
+    pub fn deprecations(&self) -> Vec<&'static str> {
+        let mut notes = Vec::new();
+        if let Command::Eval(a) = &self.command {
+            if a.plot.is_some() {
+                notes.push("--plot is deprecated: use --svg FILE");
+            }
+            if a.trajectory.is_some() {
+                notes.push("--trajectory is deprecated: use --trajectory-svg FILE");
+            }
+        }
+        if let Command::Grid(a) = &self.command {
+            if a.json {
+                notes.push("--json is deprecated: use --format json");
+            }
+        }
+        notes
+    }
 }
 
 /// Parses the command line (stage one).

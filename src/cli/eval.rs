@@ -8,6 +8,7 @@
 //! and make the exit code 3.
 
 use super::args::{ArgError, EvalArgs, Format, StreamForm, SummaryFormat};
+use super::output::{self, Output};
 use super::{load_engine, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::engine::outcome::QueryOutcome;
 use crate::engine::tracker::TrackerConfig;
@@ -18,7 +19,8 @@ use crate::logic::{Decision, PlaceDistribution, PlaceSet};
 use crate::report::summary::reason_name;
 use crate::report::trajectory::{self, TrajectoryPoint, Verdict};
 use crate::report::{RunPlot, StreamRun};
-use std::io::{BufRead, IsTerminal, Write};
+use std::io::{BufRead, Write};
+use std::path::{Path, PathBuf};
 
 /// The bundled office recording (made by `lplace simulate`, see docs/streams.md).
 pub const OFFICE_RECORDING: &str = include_str!("../../recordings/office.jsonl");
@@ -70,8 +72,8 @@ fn run_frame(args: &EvalArgs, json: &str, out: &mut impl Write) -> Result<u8, Cl
             necessity,
         });
     }
-    match args.format {
-        Format::Json => {
+    match args.format.unwrap_or(Format::Json) {
+        Format::Json | Format::Jsonl => {
             serde_json::to_writer_pretty(&mut *out, &outcome).map_err(std::io::Error::from)?;
             writeln!(out)?;
         }
@@ -220,20 +222,16 @@ fn write_u64(out: &mut impl Write, mut n: u64) -> std::io::Result<()> {
 
 /// Everything one stream evaluation needs, built once.
 struct Session<'a> {
-    run: StreamRun,
     places: Vec<String>,
     args: &'a EvalArgs,
+    format: Format,
     /// `--query` sets, resolved once.
     queries: Vec<(String, PlaceSet)>,
 }
 
 impl Session<'_> {
-    fn dist(&self) -> &PlaceDistribution {
-        self.run.distribution()
-    }
-
     fn write_header(&self, out: &mut impl Write) -> std::io::Result<()> {
-        match self.args.format {
+        match self.format {
             Format::Csv => {
                 write!(
                     out,
@@ -251,152 +249,199 @@ impl Session<'_> {
             }
             Format::Table => writeln!(
                 out,
-                "{:>7} {:>9}  {:<26} {:>6} {:>6}  truth",
+                "{:>7} {:>9}  {:<TABLE_DECISION$} {:>6} {:>6}  truth",
                 "line", "t", "decision", "N", "Inc"
             ),
-            Format::Json => Ok(()),
+            Format::Json | Format::Jsonl => Ok(()),
         }
+    }
+
+    fn name(&self, k: usize) -> &str {
+        self.places.get(k).map_or("?", String::as_str)
+    }
+
+    /// The truth column: `None` without truth, `Some("none")` between places.
+    fn truth(&self, meta: &FrameMeta) -> Option<&str> {
+        meta.truth_known
+            .then(|| meta.truth_place.map_or("none", |k| self.name(k)))
     }
 
     fn write_decision(
         &self,
         out: &mut impl Write,
+        dist: &PlaceDistribution,
         d: Decision,
         meta: &FrameMeta,
     ) -> std::io::Result<()> {
-        let dist = self.dist();
-        let name = |k: usize| self.places.get(k).map_or("?", String::as_str);
-        let truth = if meta.truth_known {
-            Some(meta.truth_place.map_or("none", name))
-        } else {
-            None
-        };
-        match self.args.format {
-            Format::Json => {
-                out.write_all(b"{\"line\":")?;
-                write_u64(out, meta.line)?;
-                if let Some(t) = meta.t {
-                    write!(out, ",\"t\":{t}")?;
-                }
-                match d {
-                    Decision::Place { place, necessity } => {
-                        out.write_all(b",\"place\":\"")?;
-                        out.write_all(name(place).as_bytes())?;
-                        out.write_all(b"\",\"necessity\":")?;
-                        write_degree(out, necessity)?;
-                    }
-                    Decision::Disoriented(why) => {
-                        out.write_all(b",\"place\":null,\"reason\":\"")?;
-                        out.write_all(reason_name(&why).as_bytes())?;
-                        out.write_all(b"\"")?;
-                    }
-                }
-                out.write_all(b",\"inconsistency\":")?;
-                write_degree(out, dist.inconsistency)?;
-                match truth {
-                    Some(t) if meta.truth_place.is_some() => {
-                        out.write_all(b",\"truth\":\"")?;
-                        out.write_all(t.as_bytes())?;
-                        out.write_all(b"\"")?;
-                    }
-                    Some(_) => out.write_all(b",\"truth\":null")?,
-                    None => {}
-                }
-                for (i, (_, set)) in self.queries.iter().enumerate() {
-                    out.write_all(if i == 0 { b",\"queries\":[[" } else { b",[" })?;
-                    write_degree(out, set.possibility(&dist.possibility))?;
-                    out.write_all(b",")?;
-                    write_degree(out, set.necessity(&dist.possibility))?;
-                    out.write_all(if i + 1 == self.queries.len() {
-                        b"]]"
-                    } else {
-                        b"]"
-                    })?;
-                }
-                if self.args.degrees {
-                    for (key, v) in [
-                        (&b",\"possibility\":["[..], &dist.possibility),
-                        (&b",\"necessities\":["[..], &dist.necessity),
-                    ] {
-                        out.write_all(key)?;
-                        for (i, x) in v.iter().enumerate() {
-                            if i > 0 {
-                                out.write_all(b",")?;
-                            }
-                            write_degree(out, *x)?;
-                        }
-                        out.write_all(b"]")?;
-                    }
-                }
-                out.write_all(b"}\n")
+        match self.format {
+            Format::Json | Format::Jsonl => self.write_json(out, dist, d, meta),
+            Format::Csv => self.write_csv(out, dist, d, meta),
+            Format::Table => self.write_table_row(out, dist, d, meta),
+        }
+    }
+
+    /// One decision as a JSON line; `--degrees` adds `possibility`/`necessities` arrays in the
+    /// order of `places` (named once, in the first line's `places` field).
+    fn write_json(
+        &self,
+        out: &mut impl Write,
+        dist: &PlaceDistribution,
+        d: Decision,
+        meta: &FrameMeta,
+    ) -> std::io::Result<()> {
+        out.write_all(b"{\"line\":")?;
+        write_u64(out, meta.line)?;
+        if let Some(t) = meta.t {
+            write!(out, ",\"t\":{t}")?;
+        }
+        match d {
+            Decision::Place { place, necessity } => {
+                out.write_all(b",\"place\":\"")?;
+                out.write_all(self.name(place).as_bytes())?;
+                out.write_all(b"\",\"necessity\":")?;
+                write_degree(out, necessity)?;
             }
-            Format::Csv => {
-                write_u64(out, meta.line)?;
-                out.write_all(b",")?;
-                if let Some(t) = meta.t {
-                    write!(out, "{t}")?;
-                }
-                match d {
-                    Decision::Place { place, necessity } => {
-                        out.write_all(b",place,")?;
-                        out.write_all(name(place).as_bytes())?;
-                        out.write_all(b",")?;
-                        write_degree(out, necessity)?;
-                        out.write_all(b",,")?;
-                    }
-                    Decision::Disoriented(why) => {
-                        out.write_all(b",disoriented,,,")?;
-                        out.write_all(reason_name(&why).as_bytes())?;
-                        out.write_all(b",")?;
-                    }
-                }
-                write_degree(out, dist.inconsistency)?;
-                out.write_all(b",")?;
-                out.write_all(truth.unwrap_or("").as_bytes())?;
-                for (_, set) in &self.queries {
-                    out.write_all(b",")?;
-                    write_degree(out, set.possibility(&dist.possibility))?;
-                    out.write_all(b",")?;
-                    write_degree(out, set.necessity(&dist.possibility))?;
-                }
-                if self.args.degrees {
-                    for k in 0..self.places.len() {
-                        out.write_all(b",")?;
-                        write_degree(out, dist.possibility.get(k).copied().unwrap_or(0.0))?;
-                        out.write_all(b",")?;
-                        write_degree(out, dist.necessity.get(k).copied().unwrap_or(0.0))?;
-                    }
-                }
-                out.write_all(b"\n")
-            }
-            Format::Table => {
-                let (what, nec) = match d {
-                    Decision::Place { place, necessity } => {
-                        (format!("place {}", name(place)), format!("{necessity:.3}"))
-                    }
-                    Decision::Disoriented(why) => {
-                        (format!("disoriented: {}", reason_name(&why)), "-".into())
-                    }
-                };
-                writeln!(
-                    out,
-                    "{:>7} {:>9}  {:<26} {:>6} {:>6.3}  {}",
-                    meta.line,
-                    meta.t.map_or("-".to_string(), |t| format!("{t:.3}")),
-                    what,
-                    nec,
-                    dist.inconsistency,
-                    truth.unwrap_or("-")
-                )
+            Decision::Disoriented(why) => {
+                out.write_all(b",\"place\":null,\"reason\":\"")?;
+                out.write_all(reason_name(&why).as_bytes())?;
+                out.write_all(b"\"")?;
             }
         }
+        out.write_all(b",\"inconsistency\":")?;
+        write_degree(out, dist.inconsistency)?;
+        match self.truth(meta) {
+            Some(t) if meta.truth_place.is_some() => {
+                out.write_all(b",\"truth\":\"")?;
+                out.write_all(t.as_bytes())?;
+                out.write_all(b"\"")?;
+            }
+            Some(_) => out.write_all(b",\"truth\":null")?,
+            None => {}
+        }
+        for (i, (_, set)) in self.queries.iter().enumerate() {
+            out.write_all(if i == 0 { b",\"queries\":[[" } else { b",[" })?;
+            write_degree(out, set.possibility(&dist.possibility))?;
+            out.write_all(b",")?;
+            write_degree(out, set.necessity(&dist.possibility))?;
+            out.write_all(if i + 1 == self.queries.len() {
+                b"]]"
+            } else {
+                b"]"
+            })?;
+        }
+        if self.args.degrees {
+            for (key, v) in [
+                (&b",\"possibility\":["[..], &dist.possibility),
+                (&b",\"necessities\":["[..], &dist.necessity),
+            ] {
+                out.write_all(key)?;
+                for (i, x) in v.iter().enumerate() {
+                    if i > 0 {
+                        out.write_all(b",")?;
+                    }
+                    write_degree(out, *x)?;
+                }
+                out.write_all(b"]")?;
+            }
+        }
+        out.write_all(b"}\n")
+    }
+
+    fn write_csv(
+        &self,
+        out: &mut impl Write,
+        dist: &PlaceDistribution,
+        d: Decision,
+        meta: &FrameMeta,
+    ) -> std::io::Result<()> {
+        write_u64(out, meta.line)?;
+        out.write_all(b",")?;
+        if let Some(t) = meta.t {
+            write!(out, "{t}")?;
+        }
+        match d {
+            Decision::Place { place, necessity } => {
+                out.write_all(b",place,")?;
+                out.write_all(self.name(place).as_bytes())?;
+                out.write_all(b",")?;
+                write_degree(out, necessity)?;
+                out.write_all(b",,")?;
+            }
+            Decision::Disoriented(why) => {
+                out.write_all(b",disoriented,,,")?;
+                out.write_all(reason_name(&why).as_bytes())?;
+                out.write_all(b",")?;
+            }
+        }
+        write_degree(out, dist.inconsistency)?;
+        out.write_all(b",")?;
+        out.write_all(self.truth(meta).unwrap_or("").as_bytes())?;
+        for (_, set) in &self.queries {
+            out.write_all(b",")?;
+            write_degree(out, set.possibility(&dist.possibility))?;
+            out.write_all(b",")?;
+            write_degree(out, set.necessity(&dist.possibility))?;
+        }
+        if self.args.degrees {
+            for k in 0..self.places.len() {
+                out.write_all(b",")?;
+                write_degree(out, dist.possibility.get(k).copied().unwrap_or(0.0))?;
+                out.write_all(b",")?;
+                write_degree(out, dist.necessity.get(k).copied().unwrap_or(0.0))?;
+            }
+        }
+        out.write_all(b"\n")
+    }
+
+    fn write_table_row(
+        &self,
+        out: &mut impl Write,
+        dist: &PlaceDistribution,
+        d: Decision,
+        meta: &FrameMeta,
+    ) -> std::io::Result<()> {
+        let (what, nec) = match d {
+            Decision::Place { place, necessity } => (
+                format!("place {}", self.name(place)),
+                format!("{necessity:.3}"),
+            ),
+            Decision::Disoriented(why) => {
+                (format!("disoriented: {}", reason_name(&why)), "-".into())
+            }
+        };
+        writeln!(
+            out,
+            "{:>7} {:>9}  {:<TABLE_DECISION$} {:>6} {:>6.3}  {}",
+            meta.line,
+            meta.t.map_or("-".to_string(), |t| format!("{t:.3}")),
+            what,
+            nec,
+            dist.inconsistency,
+            self.truth(meta).unwrap_or("-")
+        )
     }
 }
 
-fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
-    let engine = load_engine(&args.model, &CompileOptions::default())?;
-    let cfg = tracker_config(args)?;
-    let (name, input, size): (String, Box<dyn BufRead + Send>, Option<u64>) = match &args.stream {
+/// Width of the table's decision column: the longest reason (`disoriented: nothing_above_threshold`,
+/// 36 characters) fits, so rows stay aligned; a place name longer than the rest pushes only its row.
+const TABLE_DECISION: usize = 36;
+
+/// An opened percept stream with its name and form.
+pub(super) struct Source {
+    /// How reports name the stream.
+    pub(super) name: String,
+    input: Box<dyn BufRead + Send>,
+    size: Option<u64>,
+    format: StreamFormat,
+}
+
+/// Opens `path` (the bundled office recording for `None`); `--input` overrides the form the
+/// extension implies.
+pub(super) fn open_source(
+    path: Option<&Path>,
+    input: Option<StreamForm>,
+) -> Result<Source, CliError> {
+    let (name, bytes, size): (String, Box<dyn BufRead + Send>, Option<u64>) = match path {
         None => (
             "recordings/office.jsonl (bundled)".into(),
             Box::new(OFFICE_RECORDING.as_bytes()),
@@ -407,46 +452,30 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
             (s.name, s.input, s.size)
         }
     };
-    let format = match (args.input, &args.stream) {
+    let format = match (input, path) {
         (Some(StreamForm::Csv), _) => StreamFormat::Csv,
         (Some(StreamForm::Jsonl), _) => StreamFormat::JsonLines,
         (None, Some(p)) => StreamFormat::from_path(p),
         (None, None) => StreamFormat::JsonLines,
     };
-    let queries = resolve_queries(&engine, &args.query)?;
-    let map_for_picture = args.trajectory.as_ref().map(|_| engine.map().clone());
-    let run = StreamRun::new(engine, (!args.no_track).then_some(cfg));
-    let places = run.places().to_vec();
-    let reader = StreamReader::new(input, run.schema(), format);
-    let mut plot = args
-        .plot
-        .as_ref()
-        .map(|_| RunPlot::new(places.clone(), format!("lplace eval {name}")));
-    let mut points: Option<Vec<TrajectoryPoint>> = args.trajectory.as_ref().map(|_| Vec::new());
-    let mut session = Session {
-        run,
-        places,
-        args,
-        queries,
-    };
-    // A progress bar only for a file with a person watching stderr.
-    let progress = match size {
-        Some(len) if std::io::stderr().is_terminal() => {
-            let bar = indicatif::ProgressBar::new(len);
-            bar.set_style(
-                indicatif::ProgressStyle::with_template(
-                    "{bar:40} {bytes}/{total_bytes} {bytes_per_sec} eta {eta}",
-                )
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-            );
-            Some(bar)
-        }
-        _ => None,
-    };
-    let mut w = std::io::BufWriter::with_capacity(1 << 16, &mut *out);
-    if !args.only_summary {
-        session.write_header(&mut w)?;
-    }
+    Ok(Source {
+        name,
+        input: bytes,
+        size,
+        format,
+    })
+}
+
+/// Steps every record of `source` through `run`: rejected records are reported on stderr and
+/// counted, each decision handed to `on_frame`. Shows a progress bar on a terminal.
+pub(super) fn evaluate(
+    run: &mut StreamRun,
+    source: Source,
+    mut on_frame: impl FnMut(&StreamRun, Decision, &FrameMeta) -> Result<(), CliError>,
+) -> Result<(), CliError> {
+    let progress = super::progress::bytes(source.size, &source.name);
+    let reader = StreamReader::new(source.input, run.schema(), source.format);
+    let name = source.name;
     let show_progress = |r: &StreamReader<_>| {
         if let Some(bar) = &progress {
             if r.lines_read() % 4096 == 0 {
@@ -467,34 +496,12 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
             match record {
                 Record::Rejected(e) => {
                     let msg = super::stream_input::rejection(&name, &e);
-                    match &progress {
-                        Some(bar) => bar.suspend(|| eprintln!("{msg}")),
-                        None => eprintln!("{msg}"),
-                    }
-                    session.run.reject(&e.reason);
+                    super::progress::eprint(progress.as_ref(), &msg);
+                    run.reject(&e.reason);
                 }
                 Record::Frame(frame, meta) => {
-                    let d = session.run.step(frame, meta);
-                    if let Some(p) = &mut plot {
-                        p.push(session.dist(), d, meta.truth_place);
-                    }
-                    if let (Some(pts), Some(pose)) = (&mut points, meta.truth_pose) {
-                        let verdict = match d.place() {
-                            None => Verdict::Disoriented,
-                            Some(k) if meta.truth_known && meta.truth_place == Some(k) => {
-                                Verdict::Right
-                            }
-                            Some(_) => Verdict::Wrong,
-                        };
-                        pts.push(TrajectoryPoint {
-                            x: pose[0],
-                            y: pose[1],
-                            verdict,
-                        });
-                    }
-                    if !args.only_summary {
-                        session.write_decision(&mut w, d, meta)?;
-                    }
+                    let d = run.step(frame, meta);
+                    on_frame(run, d, meta)?;
                 }
             }
             Ok::<(), CliError>(())
@@ -503,24 +510,144 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
     if let Some(bar) = &progress {
         bar.finish_and_clear();
     }
-    let summary = session.run.summary();
+    Ok(())
+}
+
+/// The pictures `--svg`/`--trajectory-svg` ask for, filled frame by frame.
+struct Pictures {
+    plot: Option<RunPlot>,
+    points: Option<Vec<TrajectoryPoint>>,
+    map: Option<crate::map::Map>,
+}
+
+impl Pictures {
+    fn new(args: &EvalArgs, engine: &Engine, places: &[String], name: &str) -> Pictures {
+        let title = format!("lplace eval {name}");
+        Pictures {
+            plot: args.svg().map(|_| RunPlot::new(places.to_vec(), title)),
+            points: args.trajectory_svg().map(|_| Vec::new()),
+            map: args.trajectory_svg().map(|_| engine.map().clone()),
+        }
+    }
+
+    fn push(&mut self, dist: &PlaceDistribution, d: Decision, meta: &FrameMeta) {
+        if let Some(p) = &mut self.plot {
+            p.push(dist, d, meta.truth_place);
+        }
+        if let (Some(pts), Some(pose)) = (&mut self.points, meta.truth_pose) {
+            let verdict = match d.place() {
+                None => Verdict::Disoriented,
+                Some(k) if meta.truth_known && meta.truth_place == Some(k) => Verdict::Right,
+                Some(_) => Verdict::Wrong,
+            };
+            pts.push(TrajectoryPoint {
+                x: pose[0],
+                y: pose[1],
+                verdict,
+            });
+        }
+    }
+
+    /// Writes the pictures (atomically; their paths were checked before the run).
+    fn write(&self, args: &EvalArgs, name: &str) -> Result<(), CliError> {
+        if let (Some(path), Some(p)) = (args.svg(), &self.plot) {
+            output::write_atomic(path, |w| w.write_all(p.to_svg().as_bytes()))?;
+        }
+        if let (Some(path), Some(pts), Some(map)) = (args.trajectory_svg(), &self.points, &self.map)
+        {
+            let title = format!("lplace eval {name}: decisions along the true trajectory");
+            let picture = trajectory::svg(map, pts, 20.0, &title);
+            output::write_atomic(path, |w| w.write_all(picture.as_bytes()))?;
+        }
+        Ok(())
+    }
+}
+
+/// Every file `eval` reads, as inputs no output may overwrite.
+fn inputs(args: &EvalArgs) -> Vec<(&'static str, &Path)> {
+    let mut v = super::simulate::model_inputs(&args.model);
+    v.extend(args.stream.iter().map(|p| ("STREAM", p.as_path())));
+    v.extend(args.tracker.as_deref().map(|p| ("--tracker", p)));
+    v
+}
+
+/// Every file `eval` writes.
+fn outputs(args: &EvalArgs) -> Vec<Output<'_>> {
+    let mut v = Vec::new();
+    v.extend(args.output.as_deref().map(|p| Output::file("--output", p)));
+    v.extend(args.svg().map(|p| Output::file("--svg", p)));
+    v.extend(
+        args.trajectory_svg()
+            .map(|p| Output::file("--trajectory-svg", p)),
+    );
+    v
+}
+
+/// Evaluates the stream(s): one stream prints its decisions and summary; several (or a
+/// folder) print one summary row per stream and a total.
+fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
+    output::check(&outputs(args), &inputs(args))?;
+    let streams = super::batch::expand(&args.stream)?;
+    if streams.len() > 1 || args.stream.iter().any(|p| super::batch::is_folder(p)) {
+        return super::batch::run(args, &streams, out);
+    }
+    match &args.output {
+        Some(path) => {
+            let mut code = EXIT_OK;
+            output::write_atomic(path, |w| {
+                code = run_one(args, streams.first().map(PathBuf::as_path), w)
+                    .map_err(std::io::Error::other)?;
+                Ok(())
+            })?;
+            Ok(code)
+        }
+        None => run_one(args, streams.first().map(PathBuf::as_path), out),
+    }
+}
+
+/// Loads the engine and, unless `--no-track`, the tracker for a stream run.
+pub(super) fn new_run(args: &EvalArgs) -> Result<StreamRun, CliError> {
+    let engine = load_engine(&args.model, &CompileOptions::default())?;
+    let cfg = tracker_config(args)?;
+    Ok(StreamRun::new(engine, (!args.no_track).then_some(cfg)))
+}
+
+/// Evaluates one stream, printing its decisions (unless `--only-summary`) and its summary.
+fn run_one(args: &EvalArgs, path: Option<&Path>, out: &mut dyn Write) -> Result<u8, CliError> {
+    let run = new_run(args)?;
+    let source = open_source(path, args.input)?;
+    let queries = resolve_queries(run.engine(), &args.query)?;
+    let places = run.places().to_vec();
+    let mut pictures = Pictures::new(args, run.engine(), &places, &source.name);
+    let name = source.name.clone();
+    let session = Session {
+        places,
+        args,
+        format: args.format.unwrap_or(Format::Jsonl),
+        queries,
+    };
+    let mut run = run;
+    let mut w = std::io::BufWriter::with_capacity(1 << 16, out);
+    if !args.only_summary {
+        session.write_header(&mut w)?;
+    }
+    evaluate(&mut run, source, |run, d, meta| {
+        pictures.push(run.distribution(), d, meta);
+        if !args.only_summary {
+            session.write_decision(&mut w, run.distribution(), d, meta)?;
+        }
+        Ok(())
+    })?;
+    let summary = run.summary();
     if args.only_summary {
         write_summary(&summary, args.summary, &mut w)?;
     }
     w.flush()?;
     drop(w);
     if !args.only_summary {
-        let mut err = std::io::stderr().lock();
-        write_summary(&summary, args.summary, &mut err)?;
+        write_summary(&summary, args.summary, &mut std::io::stderr().lock())?;
     }
-    if let (Some(path), Some(p)) = (&args.plot, &plot) {
-        std::fs::write(path, p.to_svg()).map_err(|e| super::grid::output_error(path, e))?;
-    }
-    if let (Some(path), Some(pts), Some(map)) = (&args.trajectory, &points, &map_for_picture) {
-        let title = format!("lplace eval {name}: decisions along the true trajectory");
-        let picture = trajectory::svg(map, pts, 20.0, &title);
-        std::fs::write(path, picture).map_err(|e| super::grid::output_error(path, e))?;
-    }
+    pictures.write(args, &name)?;
     Ok(if summary.rejected > 0 {
         EXIT_REJECTED
     } else {
@@ -531,10 +658,13 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
 fn write_summary(
     s: &crate::report::Summary,
     how: SummaryFormat,
-    out: &mut impl Write,
+    out: &mut dyn Write,
 ) -> std::io::Result<()> {
     match how {
-        SummaryFormat::Text => s.write_text(out),
+        SummaryFormat::Text => {
+            let mut out = out;
+            s.write_text(&mut out)
+        }
         SummaryFormat::Json => {
             serde_json::to_writer_pretty(&mut *out, s).map_err(std::io::Error::from)?;
             writeln!(out)

@@ -114,7 +114,7 @@ pub fn run(args: &FuseArgs, out: &mut impl Write) -> Result<u8, CliError> {
         .collect();
     let report = experiment::run(&table, &grid_cfg, &cfg, &tracks, &opts).map_err(bad)?;
     match args.format {
-        Format::Json => {
+        Format::Json | Format::Jsonl => {
             let mut v = serde_json::to_value(&report).map_err(std::io::Error::from)?;
             if !args.events {
                 if let Some(o) = v.as_object_mut() {

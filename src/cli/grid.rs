@@ -16,6 +16,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use super::args::Format;
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::grid::place::map_landmarks;
 use crate::grid::{FuzzyGrid, GridConfig, LandmarkTable};
@@ -95,8 +96,11 @@ pub struct GridArgs {
     /// The kidnap.
     #[command(flatten)]
     pub kidnap: KidnapArgs,
-    /// Print the scores as one JSON object instead of text.
-    #[arg(long)]
+    /// Output format of the scores: text (table) or one JSON object (json, jsonl).
+    #[arg(long, value_enum, value_name = "FORMAT")]
+    pub format: Option<super::args::Format>,
+    /// Old spelling of --format json.
+    #[arg(long, hide = true, conflicts_with = "format")]
     pub json: bool,
 }
 
@@ -185,7 +189,7 @@ pub fn run(args: &GridArgs, out: &mut impl Write) -> Result<u8, CliError> {
     }
     print_scores(
         out,
-        args.json,
+        args.json || matches!(args.format, Some(Format::Json | Format::Jsonl)),
         &report,
         kidnapped.as_ref(),
         &input.reader,

@@ -1,4 +1,5 @@
-//! The command line: `lplace check | explain | eval | simulate | extract | grid | compare | fuse`.
+//! The command line: `lplace check | explain | eval | simulate | extract | grid | compare | fuse
+//! | survey | completions | man`.
 //!
 //! Flags are handled in two stages, as in ripgrep: [`args`] parses the command line with clap
 //! into plain data, then each command module turns that into a ready-to-run command (files read,
@@ -15,14 +16,19 @@
 //! A closed stdout (`lplace … | head`) ends the program quietly with code 0.
 
 pub mod args;
+mod batch;
 mod check;
 mod compare;
+mod completions;
+mod data;
 mod eval;
 mod explain;
 mod extract;
 mod extract_rosbag2;
 mod fuse;
 mod grid;
+pub mod output;
+mod progress;
 mod render;
 mod simulate;
 mod stream_input;
@@ -54,6 +60,24 @@ pub enum CliError {
     /// Writing the output failed.
     #[error("cannot write output: {0}")]
     Write(#[from] std::io::Error),
+    /// An output file could not be written (exit 1).
+    #[error("cannot write `{path}`: {source}")]
+    WriteFile {
+        /// The path.
+        path: String,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// An output path that cannot work, found before any work was done (exit 2).
+    #[error("cannot write `{path}` ({flag}): {why}")]
+    OutputPath {
+        /// The flag that named it.
+        flag: &'static str,
+        /// The path.
+        path: String,
+        /// What is wrong with it.
+        why: output::OutputProblem,
+    },
     /// Input files had errors; they have been printed already.
     #[error("{count} problem(s) found")]
     Diagnostics {
@@ -69,8 +93,10 @@ impl CliError {
     fn exit_code(&self) -> u8 {
         match self {
             CliError::Read { .. } => EXIT_FAILURE,
-            CliError::Write(_) => EXIT_FAILURE,
-            CliError::Diagnostics { .. } | CliError::BadArgument(_) => EXIT_BAD_INPUT,
+            CliError::Write(_) | CliError::WriteFile { .. } => EXIT_FAILURE,
+            CliError::Diagnostics { .. }
+            | CliError::BadArgument(_)
+            | CliError::OutputPath { .. } => EXIT_BAD_INPUT,
         }
     }
 }
@@ -89,6 +115,9 @@ pub fn main() -> ExitCode {
             });
         }
     };
+    for note in cli.deprecations() {
+        eprintln!("note: {note} (the old spelling will be removed in the next release)");
+    }
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let result = match cli.command {
@@ -101,6 +130,8 @@ pub fn main() -> ExitCode {
         args::Command::Compare(a) => compare::run(&a, &mut out),
         args::Command::Fuse(a) => fuse::run(&a, &mut out),
         args::Command::Survey(a) => survey::run(&a, &mut out),
+        args::Command::Completions(a) => completions::completions(&a, &mut out),
+        args::Command::Man => completions::man(&mut out),
     };
     let result = result.and_then(|code| out.flush().map(|_| code).map_err(CliError::Write));
     match result {

@@ -1,12 +1,14 @@
 //! `lplace simulate`: a simulated robot's percept stream with ground truth (see [`crate::sim`]),
 //! as JSON Lines or CSV, on stdout or into a file.
 
-use super::args::{ArgError, SimulateArgs, StreamForm};
+use super::args::{ArgError, ModelArgs, SimulateArgs, StreamForm};
+use super::output::{self, Output};
 use super::{load_engine, CliError, EXIT_OK};
-use crate::engine::{CompileOptions, PerceptSlot};
+use crate::engine::{CompileOptions, Engine, PerceptSlot};
 use crate::io::csv::CsvWriter;
 use crate::sim::{SimConfig, Simulator};
 use std::io::Write;
+use std::path::Path;
 
 /// Checks the numeric flags before anything runs.
 fn config(args: &SimulateArgs) -> Result<SimConfig, ArgError> {
@@ -58,29 +60,41 @@ fn config(args: &SimulateArgs) -> Result<SimConfig, ArgError> {
     })
 }
 
-/// Runs `simulate`.
+/// Runs `simulate`. The output file (`-o`) is checked before anything runs and written
+/// atomically.
 pub fn run(args: &SimulateArgs, out: &mut impl Write) -> Result<u8, CliError> {
     let cfg = config(args)?;
+    if let Some(p) = &args.output {
+        output::check(&[Output::file("--output", p)], &model_inputs(&args.model))?;
+    }
     let engine = load_engine(&args.model, &CompileOptions::default())?;
     let sim = Simulator::for_engine(&engine, cfg);
-    let mut file;
-    let mut stdout_w;
-    let w: &mut dyn Write = match &args.output {
-        Some(p) => {
-            file = std::io::BufWriter::new(std::fs::File::create(p).map_err(|source| {
-                CliError::Read {
-                    path: p.display().to_string(),
-                    source,
-                }
-            })?);
-            &mut file
-        }
+    let write = |w: &mut dyn Write| write_stream(args.format, &engine, sim, w);
+    match &args.output {
+        Some(p) => output::write_atomic(p, write)?,
         None => {
-            stdout_w = std::io::BufWriter::new(&mut *out);
-            &mut stdout_w
+            let mut w = std::io::BufWriter::new(&mut *out);
+            write(&mut w)?;
+            w.flush()?;
         }
-    };
-    match args.format {
+    }
+    Ok(EXIT_OK)
+}
+
+/// The `--map`/`--rules` files, as inputs no output may overwrite.
+pub(super) fn model_inputs(model: &ModelArgs) -> Vec<(&'static str, &Path)> {
+    let map = model.map.as_deref().map(|p| ("--map", p));
+    let rules = model.rules.as_deref().map(|p| ("--rules", p));
+    map.into_iter().chain(rules).collect()
+}
+
+fn write_stream(
+    form: StreamForm,
+    engine: &Engine,
+    sim: Simulator,
+    w: &mut dyn Write,
+) -> std::io::Result<()> {
+    match form {
         StreamForm::Jsonl => {
             for rec in sim {
                 serde_json::to_writer(&mut *w, &rec).map_err(std::io::Error::from)?;
@@ -97,6 +111,5 @@ pub fn run(args: &SimulateArgs, out: &mut impl Write) -> Result<u8, CliError> {
             }
         }
     }
-    w.flush()?;
-    Ok(EXIT_OK)
+    Ok(())
 }

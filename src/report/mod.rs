@@ -2,6 +2,8 @@
 //! against ground truth, confusion matrix, kidnap recoveries) and the SVG run-time display of
 //! paper 003's Fig. 3 unrolled over time. Both are fed one frame at a time with bounded memory.
 //!
+//! `batch` is the one-row-per-stream table of a batch evaluation.
+//!
 //! `run` is the per-frame loop of an evaluated stream (engine, tracker, tally), shared by the
 //! command line and the Python binding.
 //!
@@ -9,6 +11,7 @@
 //! `io::stream` (frame meta data, rejections); nothing depends on it except the command line and
 //! the Python binding.
 
+pub mod batch;
 pub mod plot;
 pub mod run;
 pub mod summary;
