@@ -322,6 +322,22 @@ struct SweepPoint {
     first_fix: Option<f64>,
 }
 
+/// Checks `--svg` and `--tum-dir` before any work (issue 16: a typo must not cost the run).
+fn check_outputs(args: &CompareArgs) -> Result<(), CliError> {
+    use super::output::Output;
+    let mut inputs = super::grid::frame_inputs(&args.input);
+    inputs.extend(args.config.as_deref().map(|p| ("--config", p)));
+    let outputs: Vec<Output<'_>> = (args.svg.as_deref().map(|p| Output::file("--svg", p)))
+        .into_iter()
+        .chain(
+            args.tum_dir
+                .as_deref()
+                .map(|p| Output::folder("--tum-dir", p)),
+        )
+        .collect();
+    super::output::check(&outputs, &inputs)
+}
+
 /// Runs `compare`: tables to `out`, problems to stderr.
 ///
 /// # Errors
@@ -342,6 +358,7 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
         Some(p) => read_config(p, GridConfig::from_ron)?,
     };
     grid.validate().map_err(bad)?;
+    check_outputs(args)?;
     let input = load_frames(&args.input)?;
     let (table, frames) = (&input.table, &input.frames);
     let bounds = match grid.bounds {
@@ -425,7 +442,8 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
         Some(kind) => run_sweeps(kind, args, &setup, frames)?,
     };
     if let Some(path) = &args.svg {
-        std::fs::write(path, plot(&args.methods, &points)).map_err(|e| output_error(path, e))?;
+        let picture = plot(&args.methods, &points);
+        super::output::write_atomic(path, |w| w.write_all(picture.as_bytes()))?;
     }
     match args.format {
         Format::Table => print_table(out, &rows, &points)?,

@@ -281,7 +281,7 @@ impl Session<'_> {
     }
 
     /// One decision as a JSON line; `--degrees` adds `possibility`/`necessities` arrays in the
-    /// order of `places` (named once, in the first line's `places` field).
+    /// map's place order.
     fn write_json(
         &self,
         out: &mut impl Write,

@@ -95,7 +95,7 @@ pub fn run(args: &FuseArgs, out: &mut impl Write) -> Result<u8, CliError> {
             .map_err(|e| bad(format!("{}: {e}", p.display())))?,
     };
     let mut skipped = 0;
-    let (table, logs) = load_dataset(&args.from_dir, &mut skipped)?;
+    let (table, logs) = load_dataset(&super::data::resolve(&args.from_dir), &mut skipped)?;
     let opts = Options {
         objects: if args.all {
             Vec::new()

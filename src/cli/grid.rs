@@ -17,6 +17,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use super::args::Format;
+use super::output::{self, Output};
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::grid::place::map_landmarks;
 use crate::grid::{FuzzyGrid, GridConfig, LandmarkTable};
@@ -156,6 +157,13 @@ fn read_stream(
 /// [`CliError::Read`] when a file cannot be read, [`CliError::Diagnostics`] for a bad map,
 /// configuration or flag (printed first), [`CliError::Write`] when an output fails.
 pub fn run(args: &GridArgs, out: &mut impl Write) -> Result<u8, CliError> {
+    let mut inputs = frame_inputs(&args.input);
+    inputs.extend(args.config.as_deref().map(|p| ("--config", p)));
+    let outputs: Vec<Output<'_>> = (args.tum.as_deref().map(|p| Output::file("--tum", p)))
+        .into_iter()
+        .chain(args.svg.as_deref().map(|p| Output::folder("--svg", p)))
+        .collect();
+    output::check(&outputs, &inputs)?;
     let input = load_frames(&args.input)?;
     let mut cfg = match &args.config {
         None => GridConfig::default(),
@@ -227,11 +235,12 @@ pub(super) fn load_frames(input: &FrameInput) -> Result<LoadedFrames, CliError> 
     let (frames, rejected) = match (&input.from_dir, &input.stream) {
         (Some(dir), _) => {
             let robot = input.robot.ok_or_else(|| bad("--from-dir needs --robot"))?;
-            let (records, rejected) = super::extract::load_mrclam(dir, robot, &map)?;
+            let dir = super::data::resolve(dir);
+            let (records, rejected) = super::extract::load_mrclam(&dir, robot, &map)?;
             let frames = records.iter().map(|r| reader.convert(r)).collect();
             (frames, rejected)
         }
-        (None, Some(path)) => read_stream(path, &map, &mut reader)?,
+        (None, Some(path)) => read_stream(&super::data::resolve(path), &map, &mut reader)?,
         (None, None) => return Err(bad("no STREAM given")),
     };
     Ok(LoadedFrames {
@@ -299,19 +308,22 @@ pub(super) fn write_trajectory(path: &Path, frames: &[FrameEstimate]) -> Result<
             yaw: f.pose.theta,
         })
         .collect();
-    let file = std::fs::File::create(path).map_err(|e| output_error(path, e))?;
-    let mut w = std::io::BufWriter::new(file);
-    write_tum(&mut w, &poses).map_err(|e| output_error(path, e))?;
-    w.flush().map_err(|e| output_error(path, e))?;
-    Ok(())
+    output::write_atomic(path, |w| write_tum(w, &poses))
+}
+
+/// The files a [`FrameInput`] reads, as inputs no output may overwrite.
+pub(super) fn frame_inputs(input: &FrameInput) -> Vec<(&'static str, &Path)> {
+    let map = input.map.as_deref().map(|p| ("--map", p));
+    let stream = input.stream.as_deref().map(|p| ("STREAM", p));
+    map.into_iter().chain(stream).collect()
 }
 
 /// An output file's I/O error with the file named in the message (exit 1).
-pub(super) fn output_error(path: &Path, e: std::io::Error) -> CliError {
-    CliError::Write(std::io::Error::new(
-        e.kind(),
-        format!("{}: {e}", path.display()),
-    ))
+pub(super) fn output_error(path: &Path, source: std::io::Error) -> CliError {
+    CliError::WriteFile {
+        path: path.display().to_string(),
+        source,
+    }
 }
 
 fn print_scores(
@@ -391,7 +403,7 @@ fn write_frames(
     cfg: &GridConfig,
     frames: &[MetricFrame],
 ) -> Result<(), CliError> {
-    std::fs::create_dir_all(dir)?;
+    output::create_folder(dir)?;
     let mut loc = GridLocalizer::new(table, cfg).map_err(bad)?;
     let mut drive = Drive::new(table, RunOptions::default());
     let Some(t0) = frames.first().map(|f| f.t) else {
@@ -406,7 +418,8 @@ fn write_frames(
         if f.t - t0 >= SVG_TIMES[next] {
             let path = dir.join(format!("grid-{:03}.svg", next));
             let truth = f.truth.map(|p| (p.x as f32, p.y as f32, p.theta as f32));
-            std::fs::write(&path, svg(loc.grid(), table, truth, f.t - t0))?;
+            let picture = svg(loc.grid(), table, truth, f.t - t0);
+            output::write_atomic(&path, |w| w.write_all(picture.as_bytes()))?;
             next += 1;
         }
     }

@@ -68,6 +68,16 @@ pub struct SurveyArgs {
 /// # Errors
 /// [`CliError`] when a file cannot be read or written, or the map, rules or stream are bad.
 pub fn run(args: &SurveyArgs, out: &mut impl Write) -> Result<u8, CliError> {
+    if let Some(p) = &args.output {
+        let inputs = [
+            ("--map", args.map.as_path()),
+            ("--rules", args.rules.as_path()),
+            ("STREAM", args.stream.as_path()),
+        ];
+        let labels = args.labels.as_deref().map(|p| ("--labels", p));
+        let inputs: Vec<_> = inputs.into_iter().chain(labels).collect();
+        super::output::check(&[super::output::Output::file("--output", p)], &inputs)?;
+    }
     let map_src = read_source(&args.map)?;
     let rules_src = read_source(&args.rules)?;
     let map_ast = parse_map(&map_src.text).map_err(|d| fail(&map_src, d))?;
@@ -127,10 +137,7 @@ pub fn run(args: &SurveyArgs, out: &mut impl Write) -> Result<u8, CliError> {
         eprintln!("survey: later visits (held out): {held}");
     }
     match &args.output {
-        Some(path) => std::fs::write(path, &text).map_err(|source| CliError::Read {
-            path: path.display().to_string(),
-            source,
-        })?,
+        Some(path) => super::output::write_atomic(path, |w| w.write_all(text.as_bytes()))?,
         None => out.write_all(text.as_bytes())?,
     }
     Ok(if rejected > 0 { EXIT_REJECTED } else { EXIT_OK })

@@ -5,6 +5,7 @@
 mod support;
 
 mod cli_compare;
+mod cli_conventions;
 mod cli_eval;
 mod cli_fuse;
 mod cli_grid;
