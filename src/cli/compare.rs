@@ -387,7 +387,11 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
     }
     let mut rows = Vec::new();
     let mut reports = Vec::new();
+    let bar = super::progress::steps(args.methods.len() as u64, "methods");
     for &m in &args.methods {
+        if let Some(b) = &bar {
+            b.inc(1);
+        }
         let Ran { report, took, rmcl } = run_method(m, &setup, frames, &RunOptions::default())?;
         if let Some(dir) = &args.tum_dir {
             write_trajectory(&dir.join(m.file_name()), &report.frames)?;
@@ -430,6 +434,9 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
             common_from: None,
         });
         reports.push(report);
+    }
+    if let Some(b) = &bar {
+        b.finish_and_clear();
     }
     let start = common_window_start(&reports);
     let t0 = frames.first().map_or(0.0, |f| f.t);
@@ -493,9 +500,15 @@ fn run_sweeps(
     frames: &[MetricFrame],
 ) -> Result<Vec<SweepPoint>, CliError> {
     let mut points = Vec::new();
-    for (sweep, p) in levels(kind) {
+    let levels: Vec<_> = levels(kind).into_iter().collect();
+    let runs = (levels.len() * args.methods.len()) as u64;
+    let bar = super::progress::steps(runs, "sweep");
+    for (sweep, p) in levels {
         let perturbed = perturb(frames, &p, args.seed).map_err(bad)?;
         for &m in &args.methods {
+            if let Some(b) = &bar {
+                b.inc(1);
+            }
             let r = run_method(m, s, &perturbed, &RunOptions::default())?.report;
             points.push(SweepPoint {
                 method: m.to_string(),
@@ -508,6 +521,9 @@ fn run_sweeps(
                 first_fix: r.first_fix.map(|f| f.after),
             });
         }
+    }
+    if let Some(b) = &bar {
+        b.finish_and_clear();
     }
     Ok(points)
 }

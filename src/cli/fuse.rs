@@ -112,7 +112,13 @@ pub fn run(args: &FuseArgs, out: &mut impl Write) -> Result<u8, CliError> {
             truth: &l.truth,
         })
         .collect();
-    let report = experiment::run(&table, &grid_cfg, &cfg, &tracks, &opts).map_err(bad)?;
+    // One call with no step hook: a spinner says the run is alive.
+    let spinner = super::progress::spinner("fusing");
+    let report = experiment::run(&table, &grid_cfg, &cfg, &tracks, &opts).map_err(bad);
+    if let Some(s) = &spinner {
+        s.finish_and_clear();
+    }
+    let report = report?;
     match args.format {
         Format::Json | Format::Jsonl => {
             let mut v = serde_json::to_value(&report).map_err(std::io::Error::from)?;

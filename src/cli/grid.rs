@@ -164,6 +164,7 @@ pub fn run(args: &GridArgs, out: &mut impl Write) -> Result<u8, CliError> {
         .chain(args.svg.as_deref().map(|p| Output::folder("--svg", p)))
         .collect();
     output::check(&outputs, &inputs)?;
+    let spinner = super::progress::spinner("grid");
     let input = load_frames(&args.input)?;
     let mut cfg = match &args.config {
         None => GridConfig::default(),
@@ -194,6 +195,9 @@ pub fn run(args: &GridArgs, out: &mut impl Write) -> Result<u8, CliError> {
     };
     if let Some(dir) = &args.svg {
         write_frames(dir, table, &cfg, frames)?;
+    }
+    if let Some(s) = &spinner {
+        s.finish_and_clear();
     }
     print_scores(
         out,

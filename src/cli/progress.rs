@@ -20,6 +20,18 @@ pub fn steps(len: u64, name: &str) -> Option<ProgressBar> {
     bar(len, "{prefix} {bar:40} {pos}/{len} eta {eta}", name)
 }
 
+/// A spinner for work of unknown length named `name`, ticking on its own, or `None` without a
+/// terminal.
+pub fn spinner(name: &str) -> Option<ProgressBar> {
+    if !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let s = ProgressBar::new_spinner();
+    s.set_message(name.to_string());
+    s.enable_steady_tick(std::time::Duration::from_millis(120));
+    Some(s)
+}
+
 fn bar(len: u64, template: &str, name: &str) -> Option<ProgressBar> {
     if !std::io::stderr().is_terminal() {
         return None;
