@@ -42,12 +42,12 @@ pub enum Command {
     ///
     /// One frame per laser scan; with --map, each frame carries its ground-truth place. Exit 0,
     /// or 3 when some log lines were malformed (each reported on stderr with its line number).
-    Extract(super::extract::ExtractArgs),
+    Extract(ExtractArgs),
     /// Run the Fuzzy Position Grid over a landmark percept stream; write the trajectory (TUM)
     /// and print ATE, time to first fix and kidnap recovery against the stream's truth.
     ///
     /// Exit 0, or 3 when some stream lines were malformed (each reported on stderr).
-    Grid(super::grid::GridArgs),
+    Grid(GridArgs),
     /// Run several localizers (fpg, pf:N, rmcl) over the same landmark stream and print one
     /// table: ATE RMSE / median / max, time to first fix, kidnap recovery, time per step.
     ///
@@ -61,7 +61,7 @@ pub enum Command {
     ///
     /// Example: lplace compare --from-dir ../shared/data/mrclam-dataset7 --robot 1
     /// --kidnap-at mid --tum-dir out --sweep both --svg sweep.svg
-    Compare(super::compare::CompareArgs),
+    Compare(CompareArgs),
     /// Cooperative object localization (paper 002) on MRCLAM: one robot is the object the others
     /// see; fuse their object grids and compare with each robot's own estimate and with averages.
     ///
@@ -69,7 +69,7 @@ pub enum Command {
     /// localization, their own object estimates, the best of them, the plain and
     /// reliability-weighted averages and the fused estimate. Exit 0, 2 for bad flags or files,
     /// 3 when data lines were malformed (each reported on stderr as FILE:LINE) or readings rejected.
-    Fuse(super::fuse::FuseArgs),
+    Fuse(FuseArgs),
     /// Fit each place's expected percept values from a run with ground truth (the frames'
     /// `truth.place`, or --labels) and write them into the map, changing nothing else.
     ///
@@ -301,6 +301,216 @@ pub struct SimulateArgs {
     /// Write to this file instead of stdout.
     #[arg(long, short, value_name = "FILE")]
     pub output: Option<PathBuf>,
+}
+
+/// Raw log formats `extract` reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LogFormat {
+    /// CARMEN text log (FLASER, ODOM, PARAM), e.g. the Radish "corrected" logs.
+    Carmen,
+    /// UTIAS MRCLAM data set directory (LOG is the directory; needs --robot).
+    Mrclam,
+    /// ROS 2 bag, MCAP storage: a `.mcap` file or a bag directory (metadata.yaml); LaserScan +
+    /// Odometry (+ a PoseStamped truth topic) as for CARMEN. The sqlite3 storage is not read.
+    Rosbag2,
+}
+
+/// `lplace extract`.
+#[derive(Debug, Clone, Args)]
+pub struct ExtractArgs {
+    /// Format of the raw log.
+    #[arg(long, value_enum, default_value_t = LogFormat::Carmen)]
+    pub from: LogFormat,
+    /// The raw log (CARMEN), or the data set directory (MRCLAM).
+    #[arg(value_name = "LOG")]
+    pub log: PathBuf,
+    /// MRCLAM robot number (1–5); required with --from mrclam.
+    #[arg(long, value_name = "N")]
+    pub robot: Option<u32>,
+    /// Map (.map) whose place extents give each frame's ground-truth place; its `axis D;`
+    /// statement, if any, replaces the config's `compass.axis_deg`.
+    #[arg(long, value_name = "MAP")]
+    pub map: Option<PathBuf>,
+    /// Extractor parameters (RON; see `percept::ExtractConfig`). Default: built-in defaults.
+    #[arg(long, value_name = "CONFIG")]
+    pub config: Option<PathBuf>,
+    /// rosbag2: the LaserScan topic (default: the bag's one LaserScan topic).
+    #[arg(long, value_name = "TOPIC")]
+    pub scan_topic: Option<String>,
+    /// rosbag2: the Odometry topic (default: the bag's one Odometry topic).
+    #[arg(long, value_name = "TOPIC")]
+    pub odom_topic: Option<String>,
+    /// rosbag2: the ground-truth pose topic, PoseStamped or Odometry (default: the bag's one
+    /// PoseStamped topic, if any).
+    #[arg(long, value_name = "TOPIC")]
+    pub truth_topic: Option<String>,
+    /// rosbag2: forward offset of the scanner from the robot's origin, metres (CARMEN logs
+    /// carry it as PARAM robot_frontlaser_offset).
+    #[arg(long, value_name = "M", default_value_t = 0.0)]
+    pub laser_offset: f64,
+}
+
+/// `lplace fuse`.
+#[derive(Debug, Clone, Args)]
+pub struct FuseArgs {
+    /// MRCLAM dataset directory (Barcodes.dat, Landmark_Groundtruth.dat, RobotN_*.dat).
+    #[arg(long, value_name = "DIR")]
+    pub from_dir: PathBuf,
+    /// Robot (1–5) taken as the object the others see; repeat for several. Default: every
+    /// robot in turn (same as --all).
+    #[arg(long, value_name = "N", conflicts_with = "all")]
+    pub object: Vec<u32>,
+    /// Every robot in turn as the object (the default).
+    #[arg(long)]
+    pub all: bool,
+    /// Self-localization grid parameters (RON, see `grid::GridConfig`), e.g.
+    /// config/grid-mrclam.ron. Default: the built-in defaults.
+    #[arg(long, value_name = "GRID.ron")]
+    pub config: Option<PathBuf>,
+    /// Object-grid, fusion and event parameters (RON, see `coop::CoopConfig`), e.g.
+    /// config/coop-mrclam.ron. Default: the built-in defaults.
+    #[arg(long, value_name = "COOP.ron")]
+    pub coop_config: Option<PathBuf>,
+    /// Only the first SECONDS of the recording.
+    #[arg(long, value_name = "SECONDS")]
+    pub until: Option<f64>,
+    /// Output: a markdown table, one JSON object (with --events: every event too), or CSV.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+    /// With --format json: include every scored event.
+    #[arg(long)]
+    pub events: bool,
+}
+
+/// Where the landmark frames come from — a percept stream or MRCLAM files — and the map that
+/// names their landmarks. Shared by `grid` and `compare`, which read their input alike.
+#[derive(Debug, Clone, Args)]
+pub struct FrameInput {
+    /// Map (.map) whose landmarks (with ids) the stream's readings name. Default: the bundled
+    /// maps/mrclam.map.
+    #[arg(long, value_name = "MAP")]
+    pub map: Option<PathBuf>,
+    /// Percept stream (JSON lines; CSV when it ends in .csv) with landmark_range/
+    /// landmark_bearing percepts; `-` reads stdin. Not needed with --from-dir.
+    #[arg(value_name = "STREAM", required_unless_present = "from_dir")]
+    pub stream: Option<PathBuf>,
+    /// Read MRCLAM robot files from this directory instead of a stream (needs --robot).
+    #[arg(
+        long,
+        value_name = "DIR",
+        requires = "robot",
+        conflicts_with = "stream"
+    )]
+    pub from_dir: Option<PathBuf>,
+    /// MRCLAM robot number (1–5), with --from-dir.
+    #[arg(long, value_name = "N")]
+    pub robot: Option<u32>,
+    /// Ignore readings whose degree (reliability) is below this.
+    #[arg(long, value_name = "DEGREE", default_value_t = 0.0)]
+    pub min_degree: f64,
+}
+
+/// The optional injected kidnap, shared by `grid` and `compare`.
+#[derive(Debug, Clone, Args)]
+pub struct KidnapArgs {
+    /// Also run with a kidnap injected this many seconds after the first frame (or `mid`: at
+    /// the middle frame) and report the recovery time.
+    #[arg(long, value_name = "SECONDS|mid")]
+    pub kidnap_at: Option<String>,
+    /// The kidnap: forward and left metres and degrees turned, added to one odometry increment.
+    #[arg(long, value_name = "DX,DY,DTHETA", value_delimiter = ',', num_args = 3,
+          default_values_t = [0.0, 2.0, 1.5f64.to_degrees()])]
+    pub kidnap_by: Vec<f64>,
+}
+
+/// `lplace grid`.
+#[derive(Debug, Clone, Args)]
+pub struct GridArgs {
+    /// The input.
+    #[command(flatten)]
+    pub input: FrameInput,
+    /// Grid parameters (RON, see `grid::GridConfig`), e.g. config/grid-mrclam.ron. Default:
+    /// the built-in defaults.
+    #[arg(long, value_name = "CONFIG")]
+    pub config: Option<PathBuf>,
+    /// Cell size in metres (overrides the configuration's).
+    #[arg(long, value_name = "METRES")]
+    pub cell: Option<f32>,
+    /// Write the estimated trajectory here (TUM: `t x y z qx qy qz qw`).
+    #[arg(long, value_name = "FILE")]
+    pub tum: Option<PathBuf>,
+    /// Write a few grid frames as SVG into this directory (created if needed).
+    #[arg(long, value_name = "DIR")]
+    pub svg: Option<PathBuf>,
+    /// The kidnap.
+    #[command(flatten)]
+    pub kidnap: KidnapArgs,
+    /// Output format of the scores: text (table) or one JSON object (json, jsonl).
+    #[arg(long, value_enum, value_name = "FORMAT")]
+    pub format: Option<Format>,
+    /// Old spelling of --format json.
+    #[arg(long, hide = true, conflicts_with = "format")]
+    pub json: bool,
+}
+
+/// Which of paper 001's sweeps `--sweep` runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SweepKind {
+    /// Added range/bearing noise.
+    Noise,
+    /// Fraction of readings kept.
+    Sparsity,
+    /// Both.
+    Both,
+}
+
+/// `lplace compare`.
+#[derive(Debug, Clone, Args)]
+pub struct CompareArgs {
+    /// The input.
+    #[command(flatten)]
+    pub input: FrameInput,
+    /// Methods to run, comma-separated: `fpg` (Fuzzy Position Grid), `pf:N` (particle filter,
+    /// N particles; `pf` alone: --pf-config's count), `rmcl` (Fuzzy R-MCL).
+    #[arg(
+        long,
+        value_name = "LIST",
+        value_delimiter = ',',
+        default_value = "fpg,pf:500,pf:2000,rmcl"
+    )]
+    pub methods: Vec<super::compare::MethodSpec>,
+    /// Grid parameters (RON, see `grid::GridConfig`); also the cell size and bounds of R-MCL's
+    /// grid. Default: the bundled config/grid-mrclam.ron.
+    #[arg(long, value_name = "CONFIG")]
+    pub config: Option<PathBuf>,
+    /// Particle filter parameters (RON). Default: the bundled config/pf.ron.
+    #[arg(long, value_name = "CONFIG")]
+    pub pf_config: Option<PathBuf>,
+    /// Fuzzy R-MCL parameters (RON). Default: the bundled config/rmcl.ron.
+    #[arg(long, value_name = "CONFIG")]
+    pub rmcl_config: Option<PathBuf>,
+    /// Seed of the sampling methods and of the sweeps' perturbations (same seed, same output).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub seed: u64,
+    /// Write each method's trajectory (unperturbed run) into this directory as METHOD.tum
+    /// (`pf:500` → pf-500.tum); the directory is created if needed.
+    #[arg(long, value_name = "DIR")]
+    pub tum_dir: Option<PathBuf>,
+    /// The kidnap.
+    #[command(flatten)]
+    pub kidnap: KidnapArgs,
+    /// Output format: markdown tables (table), one JSON object (json, jsonl) or one CSV row
+    /// per method and run (csv).
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+    /// Also run paper 001's sweeps: added Gaussian noise (σ range / σ bearing: 0/0, 0.1 m/2°,
+    /// 0.25 m/5°, 0.5 m/10°, 1 m/20°) and readings kept (100, 50, 25, 10 %), all methods on
+    /// the same perturbed frames.
+    #[arg(long, value_enum, value_name = "WHICH")]
+    pub sweep: Option<SweepKind>,
+    /// Plot the sweeps' ATE RMSE per method as SVG into this file (needs --sweep).
+    #[arg(long, value_name = "FILE", requires = "sweep")]
+    pub svg: Option<PathBuf>,
 }
 
 /// A flag value that parsed but makes no sense.

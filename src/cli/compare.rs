@@ -13,13 +13,11 @@
 
 use std::fmt;
 use std::io::Write;
-use std::path::PathBuf;
 use std::str::FromStr;
 use std::time::{Duration, Instant};
 
-use super::grid::{
-    bad, kidnap, load_frames, output_error, read_config, write_trajectory, FrameInput, KidnapArgs,
-};
+use super::args::{CompareArgs, Format, SweepKind};
+use super::grid::{bad, kidnap, load_frames, output_error, read_config, write_trajectory};
 use super::{CliError, EXIT_OK, EXIT_REJECTED};
 use crate::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
 use crate::grid::{GridConfig, LandmarkTable};
@@ -115,76 +113,6 @@ impl MethodSpec {
     pub fn file_name(&self) -> String {
         format!("{}.tum", self.to_string().replace(':', "-"))
     }
-}
-
-/// What `--format` prints.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Format {
-    /// Markdown tables.
-    Table,
-    /// One JSON object.
-    Json,
-    /// One CSV row per method and run.
-    Csv,
-}
-
-/// Which of paper 001's sweeps `--sweep` runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum SweepKind {
-    /// Added range/bearing noise.
-    Noise,
-    /// Fraction of readings kept.
-    Sparsity,
-    /// Both.
-    Both,
-}
-
-/// `lplace compare`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct CompareArgs {
-    /// The input.
-    #[command(flatten)]
-    pub input: FrameInput,
-    /// Methods to run, comma-separated: `fpg` (Fuzzy Position Grid), `pf:N` (particle filter,
-    /// N particles; `pf` alone: --pf-config's count), `rmcl` (Fuzzy R-MCL).
-    #[arg(
-        long,
-        value_name = "LIST",
-        value_delimiter = ',',
-        default_value = "fpg,pf:500,pf:2000,rmcl"
-    )]
-    pub methods: Vec<MethodSpec>,
-    /// Grid parameters (RON, see `grid::GridConfig`); also the cell size and bounds of R-MCL's
-    /// grid. Default: the bundled config/grid-mrclam.ron.
-    #[arg(long, value_name = "CONFIG")]
-    pub config: Option<PathBuf>,
-    /// Particle filter parameters (RON). Default: the bundled config/pf.ron.
-    #[arg(long, value_name = "CONFIG")]
-    pub pf_config: Option<PathBuf>,
-    /// Fuzzy R-MCL parameters (RON). Default: the bundled config/rmcl.ron.
-    #[arg(long, value_name = "CONFIG")]
-    pub rmcl_config: Option<PathBuf>,
-    /// Seed of the sampling methods and of the sweeps' perturbations (same seed, same output).
-    #[arg(long, value_name = "N", default_value_t = 1)]
-    pub seed: u64,
-    /// Write each method's trajectory (unperturbed run) into this directory as METHOD.tum
-    /// (`pf:500` → pf-500.tum); the directory is created if needed.
-    #[arg(long, value_name = "DIR")]
-    pub tum_dir: Option<PathBuf>,
-    /// The kidnap.
-    #[command(flatten)]
-    pub kidnap: KidnapArgs,
-    /// Output format.
-    #[arg(long, value_enum, default_value_t = Format::Table)]
-    pub format: Format,
-    /// Also run paper 001's sweeps: added Gaussian noise (σ range / σ bearing: 0/0, 0.1 m/2°,
-    /// 0.25 m/5°, 0.5 m/10°, 1 m/20°) and readings kept (100, 50, 25, 10 %), all methods on
-    /// the same perturbed frames.
-    #[arg(long, value_enum, value_name = "WHICH")]
-    pub sweep: Option<SweepKind>,
-    /// Plot the sweeps' ATE RMSE per method as SVG into this file (needs --sweep).
-    #[arg(long, value_name = "FILE", requires = "sweep")]
-    pub svg: Option<PathBuf>,
 }
 
 /// The bundled particle filter parameters (config/pf.ron), the default of `--pf-config`.
@@ -454,7 +382,7 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
     }
     match args.format {
         Format::Table => print_table(out, &rows, &points)?,
-        Format::Json => {
+        Format::Json | Format::Jsonl => {
             let v = serde_json::json!({
                 "methods": rows,
                 "sweep": points,

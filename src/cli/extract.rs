@@ -5,61 +5,14 @@
 //! exit code (3 when any line was rejected, after converting all the others).
 
 use std::io::{BufReader, Write};
-use std::path::PathBuf;
 
+use super::args::{ExtractArgs, LogFormat};
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::io::carmen_stream::{convert, CarmenFramer};
 use crate::io::mrclam_dir;
 use crate::map::Map;
 use crate::percept::ExtractConfig;
 use crate::syntax::parse_map;
-
-/// Raw log formats `extract` reads.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum LogFormat {
-    /// CARMEN text log (FLASER, ODOM, PARAM), e.g. the Radish "corrected" logs.
-    Carmen,
-    /// UTIAS MRCLAM data set directory (LOG is the directory; needs --robot).
-    Mrclam,
-    /// ROS 2 bag, MCAP storage: a `.mcap` file or a bag directory (metadata.yaml); LaserScan +
-    /// Odometry (+ a PoseStamped truth topic) as for CARMEN. The sqlite3 storage is not read.
-    Rosbag2,
-}
-
-/// `lplace extract`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct ExtractArgs {
-    /// Format of the raw log.
-    #[arg(long, value_enum, default_value_t = LogFormat::Carmen)]
-    pub from: LogFormat,
-    /// The raw log (CARMEN), or the data set directory (MRCLAM).
-    #[arg(value_name = "LOG")]
-    pub log: PathBuf,
-    /// MRCLAM robot number (1–5); required with --from mrclam.
-    #[arg(long, value_name = "N")]
-    pub robot: Option<u32>,
-    /// Map (.map) whose place extents give each frame's ground-truth place; its `axis D;`
-    /// statement, if any, replaces the config's `compass.axis_deg`.
-    #[arg(long, value_name = "MAP")]
-    pub map: Option<PathBuf>,
-    /// Extractor parameters (RON; see `percept::ExtractConfig`). Default: built-in defaults.
-    #[arg(long, value_name = "CONFIG")]
-    pub config: Option<PathBuf>,
-    /// rosbag2: the LaserScan topic (default: the bag's one LaserScan topic).
-    #[arg(long, value_name = "TOPIC")]
-    pub scan_topic: Option<String>,
-    /// rosbag2: the Odometry topic (default: the bag's one Odometry topic).
-    #[arg(long, value_name = "TOPIC")]
-    pub odom_topic: Option<String>,
-    /// rosbag2: the ground-truth pose topic, PoseStamped or Odometry (default: the bag's one
-    /// PoseStamped topic, if any).
-    #[arg(long, value_name = "TOPIC")]
-    pub truth_topic: Option<String>,
-    /// rosbag2: forward offset of the scanner from the robot's origin, metres (CARMEN logs
-    /// carry it as PARAM robot_frontlaser_offset).
-    #[arg(long, value_name = "M", default_value_t = 0.0)]
-    pub laser_offset: f64,
-}
 
 /// Runs `extract`: frames to `out`, malformed lines and a summary to stderr.
 ///

@@ -9,7 +9,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use super::extract::ExtractArgs;
+use super::args::ExtractArgs;
 use super::{CliError, EXIT_OK, EXIT_REJECTED};
 use crate::io::carmen_stream::CarmenFramer;
 use crate::io::rosbag2::{resolve_topics, BagConverter, TopicChoice};

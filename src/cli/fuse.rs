@@ -8,47 +8,15 @@
 //! that give no object grid are counted. Either makes the exit code 3.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use super::args::Format;
+use super::args::{Format, FuseArgs};
 use super::{read_source, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::coop::experiment::{self, Options, Report, RobotTrack, Stat, Summary};
 use crate::coop::CoopConfig;
 use crate::grid::place::survey_landmarks;
 use crate::grid::{GridConfig, LandmarkTable};
 use crate::io::mrclam_dir::RobotLog;
-
-/// `lplace fuse`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct FuseArgs {
-    /// MRCLAM dataset directory (Barcodes.dat, Landmark_Groundtruth.dat, RobotN_*.dat).
-    #[arg(long, value_name = "DIR")]
-    pub from_dir: PathBuf,
-    /// Robot (1–5) taken as the object the others see; repeat for several. Default: every
-    /// robot in turn (same as --all).
-    #[arg(long, value_name = "N", conflicts_with = "all")]
-    pub object: Vec<u32>,
-    /// Every robot in turn as the object (the default).
-    #[arg(long)]
-    pub all: bool,
-    /// Self-localization grid parameters (RON, see `grid::GridConfig`), e.g.
-    /// config/grid-mrclam.ron. Default: the built-in defaults.
-    #[arg(long, value_name = "GRID.ron")]
-    pub config: Option<PathBuf>,
-    /// Object-grid, fusion and event parameters (RON, see `coop::CoopConfig`), e.g.
-    /// config/coop-mrclam.ron. Default: the built-in defaults.
-    #[arg(long, value_name = "COOP.ron")]
-    pub coop_config: Option<PathBuf>,
-    /// Only the first SECONDS of the recording.
-    #[arg(long, value_name = "SECONDS")]
-    pub until: Option<f64>,
-    /// Output: a markdown table, one JSON object (with --events: every event too), or CSV.
-    #[arg(long, value_enum, default_value_t = Format::Table)]
-    pub format: Format,
-    /// With --format json: include every scored event.
-    #[arg(long)]
-    pub events: bool,
-}
 
 /// One problem reported on stderr, mapped to exit 2.
 fn bad(msg: impl std::fmt::Display) -> CliError {

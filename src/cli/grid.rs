@@ -14,9 +14,9 @@
 //! TUM writing are shared with `lplace compare`, so both commands read and write alike.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use super::args::Format;
+use super::args::{Format, FrameInput, GridArgs, KidnapArgs};
 use super::output::{self, Output};
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::grid::place::map_landmarks;
@@ -33,77 +33,6 @@ use crate::syntax::parse_map;
 
 /// The MRCLAM map, bundled: the default of `grid` and `extract --from mrclam`.
 pub const MRCLAM_MAP: &str = include_str!("../../maps/mrclam.map");
-
-/// Where the landmark frames come from — a percept stream or MRCLAM files — and the map that
-/// names their landmarks. Shared by `grid` and `compare`, which read their input alike.
-#[derive(Debug, Clone, clap::Args)]
-pub struct FrameInput {
-    /// Map (.map) whose landmarks (with ids) the stream's readings name. Default: the bundled
-    /// maps/mrclam.map.
-    #[arg(long, value_name = "MAP")]
-    pub map: Option<PathBuf>,
-    /// Percept stream (JSON lines; CSV when it ends in .csv) with landmark_range/
-    /// landmark_bearing percepts; `-` reads stdin. Not needed with --from-dir.
-    #[arg(value_name = "STREAM", required_unless_present = "from_dir")]
-    pub stream: Option<PathBuf>,
-    /// Read MRCLAM robot files from this directory instead of a stream (needs --robot).
-    #[arg(
-        long,
-        value_name = "DIR",
-        requires = "robot",
-        conflicts_with = "stream"
-    )]
-    pub from_dir: Option<PathBuf>,
-    /// MRCLAM robot number (1–5), with --from-dir.
-    #[arg(long, value_name = "N")]
-    pub robot: Option<u32>,
-    /// Ignore readings whose degree (reliability) is below this.
-    #[arg(long, value_name = "DEGREE", default_value_t = 0.0)]
-    pub min_degree: f64,
-}
-
-/// The optional injected kidnap, shared by `grid` and `compare`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct KidnapArgs {
-    /// Also run with a kidnap injected this many seconds after the first frame (or `mid`: at
-    /// the middle frame) and report the recovery time.
-    #[arg(long, value_name = "SECONDS|mid")]
-    pub kidnap_at: Option<String>,
-    /// The kidnap: forward and left metres and degrees turned, added to one odometry increment.
-    #[arg(long, value_name = "DX,DY,DTHETA", value_delimiter = ',', num_args = 3,
-          default_values_t = [0.0, 2.0, 1.5f64.to_degrees()])]
-    pub kidnap_by: Vec<f64>,
-}
-
-/// `lplace grid`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct GridArgs {
-    /// The input.
-    #[command(flatten)]
-    pub input: FrameInput,
-    /// Grid parameters (RON, see `grid::GridConfig`), e.g. config/grid-mrclam.ron. Default:
-    /// the built-in defaults.
-    #[arg(long, value_name = "CONFIG")]
-    pub config: Option<PathBuf>,
-    /// Cell size in metres (overrides the configuration's).
-    #[arg(long, value_name = "METRES")]
-    pub cell: Option<f32>,
-    /// Write the estimated trajectory here (TUM: `t x y z qx qy qz qw`).
-    #[arg(long, value_name = "FILE")]
-    pub tum: Option<PathBuf>,
-    /// Write a few grid frames as SVG into this directory (created if needed).
-    #[arg(long, value_name = "DIR")]
-    pub svg: Option<PathBuf>,
-    /// The kidnap.
-    #[command(flatten)]
-    pub kidnap: KidnapArgs,
-    /// Output format of the scores: text (table) or one JSON object (json, jsonl).
-    #[arg(long, value_enum, value_name = "FORMAT")]
-    pub format: Option<super::args::Format>,
-    /// Old spelling of --format json.
-    #[arg(long, hide = true, conflicts_with = "format")]
-    pub json: bool,
-}
 
 /// Loads a map file, or the bundled MRCLAM map, printing its diagnostics on failure.
 pub(super) fn load_map(path: Option<&Path>) -> Result<Map, CliError> {
