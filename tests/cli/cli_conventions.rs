@@ -155,6 +155,17 @@ fn old_spellings_still_work_with_a_note() {
         std::fs::read(&old).expect("drawn"),
         std::fs::read(&new).expect("drawn")
     );
+    // grid --json: the note comes first, whatever happens next (here: no such stream).
+    let out = lplace()
+        .args(["grid", "no-such-stream.jsonl", "--json"])
+        .output()
+        .expect("runs");
+    assert!(stderr_of(&out).starts_with("note: --json is deprecated: use --format json"));
+    let out = lplace()
+        .args(["grid", "no-such-stream.jsonl", "--json", "--format", "json"])
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(2), "one spelling at a time");
 }
 
 /// Two streams in a folder, counted by hand: `a` is AT_P1 (truth P1, decided P1, N 0.608 <

@@ -62,7 +62,7 @@ fn grid_writes_a_tum_trajectory_that_parses_back() {
         .arg(&tum)
         .arg("--svg")
         .arg(&svg)
-        .arg("--json")
+        .args(["--format", "json"])
         .assert()
         .code(0)
         .get_output()
@@ -115,7 +115,7 @@ fn grid_json(name: &str, lines: &[String]) -> (i32, serde_json::Value, String) {
         .arg("--map")
         .arg(&map)
         .arg(&stream)
-        .arg("--json")
+        .args(["--format", "json"])
         .output()
         .unwrap();
     let v = serde_json::from_slice(&out.stdout).unwrap();
@@ -299,7 +299,7 @@ fn mrclam_robot1_extract_then_grid() {
         .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("config/grid-mrclam.ron"))
         .arg("--tum")
         .arg(d.join("r1.tum"))
-        .args(["--kidnap-at", "mid", "--json"])
+        .args(["--kidnap-at", "mid", "--format", "json"])
         .assert()
         .code(0)
         .get_output()
