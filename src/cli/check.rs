@@ -32,41 +32,44 @@ fn report(file: &SourceFile, diags: &[Diagnostic]) -> usize {
     diags.iter().filter(|d| d.is_error()).count()
 }
 
+/// The map to check rules against when no .map is among the files: --map, else the bundled
+/// office map (said on stderr). When the given maps had errors, checking the rules against
+/// another would mislead: stop.
+fn fallback_map(args: &CheckArgs, no_maps: bool, errors: usize) -> Result<SourceFile, CliError> {
+    match &args.map {
+        Some(p) => read_source(p),
+        None if no_maps => {
+            eprintln!(
+                "note: no map given: checking the rules against the bundled office map \
+                 (maps/office.map); name your map among the files or with --map"
+            );
+            Ok(SourceFile::new("maps/office.map (bundled)", OFFICE_MAP))
+        }
+        None => Err(CliError::Diagnostics { count: errors }),
+    }
+}
+
 /// Runs `check`; exit 0 when every file is clean.
 pub fn run(args: &CheckArgs, out: &mut impl Write) -> Result<u8, CliError> {
     let mut errors = 0usize;
     let (maps, rules): (Vec<_>, Vec<_>) = args.files.iter().partition(|p| is_map(p));
+    // Each map with the count of problems the rules found in it: its "ok" line waits for the
+    // rules, so that a file is never called ok and then blamed.
     let mut models = Vec::new();
     for path in &maps {
         let file = read_source(path)?;
         if let Some(m) = load_map(&file, &mut errors) {
-            writeln!(
-                out,
-                "{}: ok ({} places, {} rooms, {} landmarks, {} paths)",
-                file.name,
-                m.places().len(),
-                m.rooms().len(),
-                m.landmarks().len(),
-                m.graph().edge_count()
-            )?;
-            models.push((m, file));
+            models.push((m, file, 0usize));
         }
     }
     if !rules.is_empty() && models.is_empty() {
-        // Rules need a map to be checked against: --map, else the bundled office map.
-        let file = match &args.map {
-            Some(p) => read_source(p)?,
-            None if maps.is_empty() => SourceFile::new("maps/office.map (bundled)", OFFICE_MAP),
-            None => {
-                // The given maps had errors; checking rules against another would mislead.
-                return Err(CliError::Diagnostics { count: errors });
-            }
-        };
+        let file = fallback_map(args, maps.is_empty(), errors)?;
         match load_map(&file, &mut errors) {
-            Some(m) => models.push((m, file)),
+            Some(m) => models.push((m, file, 0)),
             None => return Err(CliError::Diagnostics { count: errors }),
         }
     }
+    let mut rule_lines = Vec::new();
     for path in &rules {
         let file = read_source(path)?;
         let ast = match parse_rules(&file.text) {
@@ -76,7 +79,7 @@ pub fn run(args: &CheckArgs, out: &mut impl Write) -> Result<u8, CliError> {
                 continue;
             }
         };
-        for (map, map_file) in &models {
+        for (map, map_file, map_errors) in &mut models {
             let checked = match check_rules(&ast, map) {
                 Ok(c) => c,
                 Err(d) => {
@@ -86,20 +89,37 @@ pub fn run(args: &CheckArgs, out: &mut impl Write) -> Result<u8, CliError> {
             };
             let cross = check_map_against_rules(map, &checked);
             if !cross.is_empty() {
-                errors += report(map_file, &cross);
+                let n = report(map_file, &cross);
+                *map_errors += n;
+                errors += n;
             }
             match compile(&checked, map, &CompileOptions::default()) {
-                Ok(c) => writeln!(
-                    out,
+                Ok(c) => rule_lines.push(format!(
                     "{}: ok ({} rules, {} percept instances, {} instructions)",
                     file.name,
                     checked.rules.len(),
                     c.percepts.len(),
                     c.tape.len()
-                )?,
+                )),
                 Err(d) => errors += report(&file, &d),
             }
         }
+    }
+    for (m, file, map_errors) in &models {
+        if *map_errors == 0 && maps.iter().any(|p| p.display().to_string() == file.name) {
+            writeln!(
+                out,
+                "{}: ok ({} places, {} rooms, {} landmarks, {} paths)",
+                file.name,
+                m.places().len(),
+                m.rooms().len(),
+                m.landmarks().len(),
+                m.graph().edge_count()
+            )?;
+        }
+    }
+    for line in rule_lines {
+        writeln!(out, "{line}")?;
     }
     if errors > 0 {
         Err(CliError::Diagnostics { count: errors })

@@ -271,3 +271,46 @@ fn eval_help() {
     assert!(out.status.success());
     insta::assert_snapshot!("eval_help", String::from_utf8_lossy(&out.stdout));
 }
+
+#[test]
+fn check_never_calls_a_file_ok_and_then_blames_it() {
+    let d = scratch("conventions", "check");
+    let office =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("maps/office.map"))
+            .expect("bundled map");
+    // A wall direction the office rules' `Dir` domain does not have: the map parses, the
+    // rules then find the problem in it.
+    let bad = office.replacen("wall South; wall West;", "wall Sud; wall West;", 1);
+    assert_ne!(bad, office);
+    let map = write(&d, "bad2.map", &bad);
+    let out = lplace()
+        .arg("check")
+        .arg(&map)
+        .arg("rules/office.lpl")
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(!stdout.contains("bad2.map: ok"), "{stdout}");
+    assert!(stderr_of(&out).contains("Sud"), "{}", stderr_of(&out));
+    // Clean files: maps first, then rules, in that order; no note when the map is given.
+    let out = lplace()
+        .args(["check", "maps/office.map", "rules/office.lpl"])
+        .output()
+        .expect("runs");
+    assert!(out.status.success());
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), 2, "{stdout}");
+    assert!(lines[0].starts_with("maps/office.map: ok ("));
+    assert!(lines[1].starts_with("rules/office.lpl: ok ("));
+    assert!(out.stderr.is_empty());
+    // Rules alone: checked against the bundled map, and said so.
+    let out = lplace()
+        .args(["check", "rules/office.lpl"])
+        .output()
+        .expect("runs");
+    assert!(out.status.success());
+    assert!(stderr_of(&out)
+        .contains("note: no map given: checking the rules against the bundled office map"));
+}
