@@ -417,9 +417,19 @@ pub struct KidnapArgs {
     /// the middle frame) and report the recovery time.
     #[arg(long, value_name = "SECONDS|mid")]
     pub kidnap_at: Option<String>,
-    /// The kidnap: forward and left metres and degrees turned, added to one odometry increment.
-    #[arg(long, value_name = "DX,DY,DTHETA", value_delimiter = ',', num_args = 3,
-          default_values_t = [0.0, 2.0, 1.5f64.to_degrees()])]
+    /// The kidnap: forward and left metres and degrees turned, added to one odometry increment,
+    /// as one comma-separated value, e.g. 0,1,45. Default: 0,2,85.94 (1.5 rad).
+    // The default string is the shortest form of 1.5 rad in degrees, so it parses back to the
+    // very same number as before.
+    #[arg(
+        long,
+        value_name = "DX,DY,DTHETA",
+        value_delimiter = ',',
+        num_args = 1,
+        allow_hyphen_values = true,
+        default_value = "0,2,85.94366926962348",
+        hide_default_value = true
+    )]
     pub kidnap_by: Vec<f64>,
 }
 

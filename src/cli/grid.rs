@@ -218,6 +218,12 @@ pub(super) fn kidnap(
             }
         }
     };
+    if args.kidnap_by.len() != 3 {
+        return Err(bad(format!(
+            "--kidnap-by needs three numbers DX,DY,DTHETA; got {}",
+            args.kidnap_by.len()
+        )));
+    }
     let by = |k: usize| args.kidnap_by.get(k).copied().unwrap_or(0.0);
     Ok(Some((
         time - first.t,

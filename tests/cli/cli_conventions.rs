@@ -314,3 +314,21 @@ fn check_never_calls_a_file_ok_and_then_blames_it() {
     assert!(stderr_of(&out)
         .contains("note: no map given: checking the rules against the bundled office map"));
 }
+
+#[test]
+fn kidnap_by_is_one_comma_separated_value() {
+    let out = lplace().args(["grid", "--help"]).output().expect("runs");
+    let help = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(help.matches("<DX,DY,DTHETA>").count(), 1, "{help}");
+    assert!(!help.contains("85.94366926962348"), "{help}");
+    assert!(help.contains("Default: 0,2,85.94 (1.5 rad)"), "{help}");
+    // Parsed (the run then stops at the missing stream, exit 1, not a usage error).
+    for value in ["0,1,45", "-1,0,-30"] {
+        let out = lplace()
+            .args(["grid", "no-such-stream.jsonl", "--kidnap-by", value])
+            .output()
+            .expect("runs");
+        assert_eq!(out.status.code(), Some(1), "{value}: {}", stderr_of(&out));
+        assert!(stderr_of(&out).contains("cannot read `no-such-stream.jsonl`"));
+    }
+}
