@@ -78,6 +78,19 @@ pub enum Command {
     /// prints how the written map does on the later visits. Exit 0, 3 when some stream lines
     /// were malformed, 2 for bad map, rules or labels, 1 when a file cannot be read or written.
     Survey(super::survey::SurveyArgs),
+    /// Evaluate percept streams as `eval` does and write one self-contained HTML page about
+    /// them: summary, confusion matrix, place Π/N over time, trajectory, grid beliefs.
+    ///
+    /// Each RUN is a percept stream (the input of `lplace eval`), evaluated with the --map,
+    /// --rules and --tracker given once for all runs; the page has one section per run and,
+    /// with several, a table comparing them. It loads nothing from anywhere (inline SVG, no
+    /// script). Exit 0, 3 when some records were rejected (each reported on stderr as
+    /// STREAM:LINE: reason; the page is written), 2 for bad arguments, map, rules or tracker,
+    /// 1 when a file cannot be read or written.
+    ///
+    /// Example: lplace report intel.jsonl --map maps/intel.map --rules rules/intel.lpl
+    /// --tracker config/intel-tracker.ron -o intel.html
+    Report(super::report::ReportArgs),
     /// Print a shell completion script on stdout, e.g.
     /// `lplace completions bash > ~/.local/share/bash-completion/completions/lplace`.
     Completions(CompletionsArgs),

@@ -1,5 +1,5 @@
 //! The command line: `lplace check | explain | eval | simulate | extract | grid | compare | fuse
-//! | survey | completions | man`.
+//! | survey | report | completions | man`.
 //!
 //! Flags are handled in two stages, as in ripgrep: [`args`] parses the command line with clap
 //! into plain data, then each command module turns that into a ready-to-run command (files read,
@@ -30,6 +30,7 @@ mod grid;
 pub mod output;
 mod progress;
 mod render;
+mod report;
 mod simulate;
 mod stream_input;
 pub mod survey;
@@ -130,6 +131,7 @@ pub fn main() -> ExitCode {
         args::Command::Compare(a) => compare::run(&a, &mut out),
         args::Command::Fuse(a) => fuse::run(&a, &mut out),
         args::Command::Survey(a) => survey::run(&a, &mut out),
+        args::Command::Report(a) => report::run(&a, &mut out),
         args::Command::Completions(a) => completions::completions(&a, &mut out),
         args::Command::Man => completions::man(&mut out),
     };

@@ -2,7 +2,8 @@
 //! against ground truth, confusion matrix, kidnap recoveries) and the SVG run-time display of
 //! paper 003's Fig. 3 unrolled over time. Both are fed one frame at a time with bounded memory.
 //!
-//! `batch` is the one-row-per-stream table of a batch evaluation.
+//! `batch` is the one-row-per-stream table of a batch evaluation; `html` is `lplace report`'s
+//! self-contained page of one or more runs.
 //!
 //! `run` is the per-frame loop of an evaluated stream (engine, tracker, tally), shared by the
 //! command line and the Python binding.
@@ -12,6 +13,7 @@
 //! the Python binding.
 
 pub mod batch;
+pub mod html;
 pub mod plot;
 pub mod run;
 pub mod summary;

@@ -9,6 +9,7 @@
 //! Depends on `engine` (the engine and the tracker), `io::stream` (frame meta data, rejections)
 //! and `report::summary`.
 
+use crate::engine::grid_tracker::GridTracker;
 use crate::engine::tracker::{PlaceTracker, TrackerConfig};
 use crate::engine::{Engine, Frame};
 use crate::io::stream::{FrameMeta, Rejection, Schema};
@@ -80,6 +81,15 @@ impl StreamRun {
     /// Whether the tracker is on.
     pub fn tracking(&self) -> bool {
         self.tracker.is_some()
+    }
+
+    /// The metric grid tracker, when the tracker configuration chose one (its belief plane is
+    /// what `lplace report` draws).
+    pub fn grid_tracker(&self) -> Option<&GridTracker> {
+        match &self.tracker {
+            Some(PlaceTracker::Grid(g)) => Some(g),
+            _ => None,
+        }
     }
 
     /// Steps one accepted frame and counts its decision. A record's `region` field conditions the engine on that set (a region known from outside).

@@ -10,4 +10,5 @@ mod cli_eval;
 mod cli_fuse;
 mod cli_grid;
 mod cli_hostile;
+mod cli_report;
 mod cli_simulate;
