@@ -57,12 +57,12 @@ pub fn run(args: &ReportArgs, out: &mut impl std::io::Write) -> Result<u8, CliEr
     if args.runs.is_empty() {
         let input = Box::new(super::eval::OFFICE_RECORDING.as_bytes());
         let name = "recordings/office.jsonl (bundled)".to_string();
-        let run = StreamRun::new(engine.clone(), cfg.clone());
+        let run = StreamRun::new(engine.clone(), cfg);
         pages.push(one_run(run, name, input, StreamFormat::JsonLines, &map)?);
     }
     for path in &args.runs {
         let s = super::stream_input::open(path)?;
-        let run = StreamRun::new(engine.clone(), cfg.clone());
+        let run = StreamRun::new(engine.clone(), cfg);
         pages.push(one_run(
             run,
             s.name,

@@ -345,30 +345,100 @@ fn pages_load_without_console_messages_and_their_charts_render() {
         let sub = dir.join(name);
         std::fs::create_dir_all(&sub).expect("scratch is writable");
         let page = office_page(&sub, &extra);
-        let html = read(&page);
-        assert_eq!(html.contains("Grid tracker belief"), name == "grid");
-        let shown = render(&browser, &page, &sub, 6000);
-        assert!(
-            shown.console.is_empty(),
-            "{name}: console messages: {:?}",
-            shown.console
-        );
-        // The same page with its pictures cut out: what the text and tables alone colour.
-        let bare = sub.join("bare.html");
-        std::fs::write(&bare, without_svg(&html)).expect("scratch is writable");
-        let text_only = render(&browser, &bare, &sub, 6000);
-        let (with, without) = (coloured(&shown.pixels), coloured(&text_only.pixels));
+        assert_eq!(read(&page).contains("Grid tracker belief"), name == "grid");
+        renders_cleanly(&browser, &page, &sub, name);
+    }
+}
+
+/// Opens `page` and its copy without pictures: no console message, a page that is not blank,
+/// and charts that colour many more pixels than the text and tables alone.
+fn renders_cleanly(browser: &Path, page: &Path, dir: &Path, name: &str) {
+    let shown = render(browser, page, dir, 6000);
+    assert!(
+        shown.console.is_empty(),
+        "{name}: console messages: {:?}",
+        shown.console
+    );
+    let bare = dir.join("bare.html");
+    std::fs::write(&bare, without_svg(&read(page))).expect("scratch is writable");
+    let text_only = render(browser, &bare, dir, 6000);
+    let (with, without) = (coloured(&shown.pixels), coloured(&text_only.pixels));
+    eprintln!(
+        "{name}: {} non-background pixels; coloured {with} with charts, {without} without",
+        non_background(&shown.pixels)
+    );
+    assert!(
+        non_background(&shown.pixels) > 100_000,
+        "{name}: blank page"
+    );
+    assert!(
+        with > without + 25_000,
+        "{name}: charts did not render ({with} coloured pixels with them, {without} without)"
+    );
+}
+
+/// The README's tutorial step: the Intel log → percept stream → HTML report, whose figures are
+/// `lplace eval`'s on the same stream, opened in the browser when there is one.
+#[test]
+fn intel_run_to_its_html_report() {
+    let log = crate::support::data_dir().join("carmen-corrected-logs/intel-corrected.log");
+    if !log.exists() {
         eprintln!(
-            "{name}: {} non-background pixels; coloured {with} with charts, {without} without",
-            non_background(&shown.pixels)
+            "SKIPPED: no Intel log at {} (set LPLACE_DATA)",
+            log.display()
         );
-        assert!(
-            non_background(&shown.pixels) > 100_000,
-            "{name}: blank page"
-        );
-        assert!(
-            with > without + 25_000,
-            "{name}: charts did not render ({with} coloured pixels with them, {without} without)"
-        );
+        return;
+    }
+    let dir = scratch("report", "intel");
+    let stream = dir.join("intel.jsonl");
+    let extracted = lplace()
+        .args(["extract", "--from", "carmen"])
+        .arg(&log)
+        .args(["--map", "maps/intel.map", "--config", "config/intel.ron"])
+        .output()
+        .expect("extract runs");
+    assert!(extracted.status.success());
+    std::fs::write(&stream, &extracted.stdout).expect("scratch is writable");
+    let model = [
+        "--map",
+        "maps/intel.map",
+        "--rules",
+        "rules/intel.lpl",
+        "--tracker",
+        "config/intel-tracker.ron",
+    ];
+    let page = dir.join("intel.html");
+    lplace()
+        .arg("report")
+        .arg(&stream)
+        .args(model)
+        .arg("-o")
+        .arg(&page)
+        .assert()
+        .success();
+    let eval = lplace()
+        .arg("eval")
+        .arg(&stream)
+        .args(model)
+        .args(["--only-summary", "--summary", "json"])
+        .output()
+        .expect("eval runs");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&eval.stdout).expect("eval's summary is JSON");
+    let n = |k: &str| summary["truth"][k].as_u64().expect("a count");
+    let (at, right, wrong) = (n("at_place"), n("correct"), n("wrong"));
+    let pct = |a: u64, b: u64| format!("<td>{:.1} %</td>", 100.0 * a as f64 / b as f64);
+    let html = read(&page);
+    assert!(
+        html.contains(&pct(right + wrong, at)),
+        "decided differs from eval"
+    );
+    assert!(
+        html.contains(&pct(right, right + wrong)),
+        "right differs from eval"
+    );
+    assert!(html.contains("Grid tracker belief"));
+    if let Some(browser) = chromium() {
+        renders_cleanly(&browser, &page, &dir, "intel");
     }
 }

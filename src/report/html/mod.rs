@@ -158,7 +158,7 @@ h1{font-size:1.5em}h2{font-size:1.25em;border-top:1px solid #ccc;padding-top:.8e
 table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}\
 th{background:#f3f3f3}td.l,th.l{text-align:left}svg{max-width:100%;height:auto}\
 figure{margin:.5em 0}figcaption{font-size:.9em;color:#555}.beliefs{display:flex;flex-wrap:wrap;gap:1em}\
-.confusion td{min-width:2.2em}.note{color:#555;font-size:.9em}";
+.confusion td{min-width:2.2em}.note{color:#555;font-size:.9em}.wide{overflow-x:auto}";
 
 /// The whole page for `runs`, titled `title`, with `setup` listed under the title.
 pub fn page(title: &str, setup: &Setup, runs: &[RunPage]) -> String {
@@ -341,7 +341,7 @@ fn confusion(s: &mut String, t: &TruthSummary) {
     s.push_str(
         "<h3>Confusion matrix</h3>\n<p class=\"note\">Rows: the true place (none: between \
          places); columns: the decision. Cells are shaded by their share of the row.</p>\n\
-         <table class=\"confusion\">\n<tr><th class=\"l\">truth \\ decided</th>",
+         <div class=\"wide\"><table class=\"confusion\">\n<tr><th class=\"l\">truth \\ decided</th>",
     );
     for c in &t.confusion_columns {
         let _ = write!(s, "<th>{}</th>", xml_escape(c));
@@ -364,7 +364,7 @@ fn confusion(s: &mut String, t: &TruthSummary) {
         }
         s.push_str("</tr>\n");
     }
-    s.push_str("</table>\n");
+    s.push_str("</table></div>\n");
 }
 
 #[cfg(test)]
