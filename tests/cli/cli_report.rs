@@ -161,12 +161,22 @@ fn bad_inputs_exit_with_the_documented_codes() {
         .args(["report", "--map", "tests/corpus/several_errors.lpl"])
         .assert()
         .code(2);
-    // Without -o the page goes to stdout.
+    // Without -o the page goes to stdout; `-` reads the stream from stdin.
+    let office = std::fs::read("recordings/office.jsonl").expect("the bundled recording");
     lplace()
-        .args(["report", "--no-track"])
+        .args(["report", "-", "--no-track"])
+        .write_stdin(office)
         .assert()
         .success()
-        .stdout(predicates::str::starts_with("<!DOCTYPE html>"));
+        .stdout(predicates::str::starts_with("<!DOCTYPE html>"))
+        .stdout(predicates::str::contains("<h2>&lt;stdin&gt;</h2>"));
+    // A page that cannot be written: exit 1, naming the file.
+    lplace()
+        .args(["report", "--no-track", "-o"])
+        .arg(dir.join("no-such-dir").join("r.html"))
+        .assert()
+        .code(1)
+        .stderr(predicates::str::contains("r.html"));
 }
 
 // ---- the page in a real browser ------------------------------------------------------------

@@ -6,8 +6,10 @@
 //!
 //! The pictures are inline SVG written here and in the sibling modules; the page loads nothing
 //! (no script, no style sheet, no font, no image from anywhere), so it opens offline and can be
-//! mailed as one file. [`RunRecorder`] is fed one frame at a time with bounded memory except for
-//! the trajectory (one point per frame with a true pose, as `lplace eval --trajectory`).
+//! mailed as one file. [`RunRecorder`] is fed one frame at a time with bounded memory: the
+//! trajectory keeps at most [`MAX_POINTS`] points (every other one is dropped when full, and
+//! from then on every second, fourth, … frame is kept), so a long run still makes a page a
+//! browser opens.
 
 pub mod belief;
 
@@ -21,6 +23,9 @@ use crate::report::plot::{xml_escape, RunPlot};
 use crate::report::summary::{Summary, TruthSummary};
 use crate::report::trajectory::{self, TrajectoryPoint, Verdict};
 use belief::{BeliefSampler, BeliefSnapshot};
+
+/// Most trajectory points drawn per run.
+pub const MAX_POINTS: usize = 20_000;
 
 /// What the last frame left, kept so that the final belief plane can be labelled.
 #[derive(Debug, Clone, Default)]
@@ -38,6 +43,9 @@ pub struct RunRecorder {
     places: Vec<String>,
     plot: RunPlot,
     points: Vec<TrajectoryPoint>,
+    /// Keep one frame with a true pose in this many.
+    point_stride: u64,
+    posed: u64,
     beliefs: BeliefSampler,
     last: Option<LastFrame>,
 }
@@ -54,6 +62,8 @@ impl RunRecorder {
             name,
             places,
             points: Vec::new(),
+            point_stride: 1,
+            posed: 0,
             beliefs: BeliefSampler::default(),
             last: None,
         }
@@ -76,7 +86,7 @@ impl RunRecorder {
                 Some(k) if meta.truth_known && meta.truth_place == Some(k) => Verdict::Right,
                 Some(_) => Verdict::Wrong,
             };
-            self.points.push(TrajectoryPoint { x, y, verdict });
+            self.push_point(TrajectoryPoint { x, y, verdict });
         }
         if let Some(g) = grid {
             if self.beliefs.wants_next() {
@@ -91,6 +101,27 @@ impl RunRecorder {
             truth,
             decided: d.place(),
         });
+    }
+
+    /// Keeps every `point_stride`-th point; when full, halves the points and the rate.
+    fn push_point(&mut self, p: TrajectoryPoint) {
+        let keep = self.posed % self.point_stride == 0;
+        self.posed += 1;
+        if !keep {
+            return;
+        }
+        if self.points.len() == MAX_POINTS {
+            let mut i = 0;
+            self.points.retain(|_| {
+                i += 1;
+                i % 2 == 1
+            });
+            self.point_stride *= 2;
+            if (self.posed - 1) % self.point_stride != 0 {
+                return;
+            }
+        }
+        self.points.push(p);
     }
 
     /// The run's section of the page, given its summary, its map and the grid tracker's final
@@ -392,6 +423,27 @@ mod tests {
             let outside_svg_ns = p.replace("http://www.w3.org/2000/svg", "");
             assert!(!outside_svg_ns.contains(needle), "{needle}");
         }
+    }
+
+    #[test]
+    fn a_long_trajectory_is_thinned_evenly() {
+        let mut r = RunRecorder::new("r", vec!["A".into()]);
+        let n = 3 * MAX_POINTS as u64 + 7;
+        for i in 0..n {
+            r.push_point(TrajectoryPoint {
+                x: i as f64,
+                y: 0.0,
+                verdict: Verdict::Right,
+            });
+        }
+        // Past 2 × MAX_POINTS the stride is 4: points 0, 4, 8, … up to n − 1.
+        assert_eq!(r.point_stride, 4);
+        assert_eq!(r.points.len() as u64, (n - 1) / 4 + 1);
+        assert!(r
+            .points
+            .iter()
+            .enumerate()
+            .all(|(k, p)| p.x == (4 * k) as f64));
     }
 
     #[test]
