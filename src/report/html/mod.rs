@@ -189,7 +189,7 @@ h1{font-size:1.5em}h2{font-size:1.25em;border-top:1px solid #ccc;padding-top:.8e
 table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}\
 th{background:#f3f3f3}td.l,th.l{text-align:left}svg{max-width:100%;height:auto}\
 figure{margin:.5em 0}figcaption{font-size:.9em;color:#555}.beliefs{display:flex;flex-wrap:wrap;gap:1em}\
-.confusion td{min-width:2.2em}.note{color:#555;font-size:.9em}.wide{overflow-x:auto}";
+.confusion td,.confusion th{padding:1px 3px;font-size:.85em}.note{color:#555;font-size:.9em}.wide{overflow-x:auto}";
 
 /// The whole page for `runs`, titled `title`, with `setup` listed under the title.
 pub fn page(title: &str, setup: &Setup, runs: &[RunPage]) -> String {
@@ -367,7 +367,7 @@ fn summary_table(s: &mut String, sm: &Summary) {
 }
 
 /// The confusion matrix, rows the truth, columns the decision; each cell shaded by its share of
-/// the row (green on the diagonal, red off it).
+/// the row (green on the diagonal, grey when disoriented, red elsewhere).
 fn confusion(s: &mut String, t: &TruthSummary) {
     s.push_str(
         "<h3>Confusion matrix</h3>\n<p class=\"note\">Rows: the true place (none: between \
@@ -387,7 +387,12 @@ fn confusion(s: &mut String, t: &TruthSummary) {
             } else {
                 *n as f64 / total as f64
             };
-            let colour = if c == r { "26,150,65" } else { "215,25,28" };
+            // Green right, grey disoriented (not wrong, just undecided), red wrong.
+            let colour = match c.as_str() {
+                _ if c == r => "26,150,65",
+                "disoriented" => "120,120,120",
+                _ => "215,25,28",
+            };
             let _ = write!(
                 s,
                 "<td style=\"background:rgba({colour},{share:.2})\">{n}</td>"
