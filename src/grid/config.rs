@@ -30,6 +30,20 @@ pub enum ElementShape {
     Square,
 }
 
+/// The t-norm of the prediction's dilation `sup_q T(G(q), B(p − q))` ([`crate::grid::dilate`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Dilation {
+    /// `T = min`: paper 000's eq. (3). Exact by one shifted maximum per level of the element,
+    /// so its cost grows with the radius where the belief varies within reach.
+    #[default]
+    SupMin,
+    /// `T(a, b) = max(0, a + b − 1)`: splits exactly into a flat dilation by the core and a
+    /// max-plus dilation by a cone, O(1) per cell at every radius
+    /// (`grid::dilate::lukasiewicz`). A cell at distance `d` into the flank loses `d/s`
+    /// instead of being capped at `1 − d/s`, so high plateaus spread less far than under min.
+    Lukasiewicz,
+}
+
 /// A sensor model: the trapezoid `⟨r, Δ, α, 1, b⟩` put around a reading `r`.
 ///
 /// Widths grow with the reading (`core = core_abs + core_rel · |r|`, same for
@@ -106,6 +120,8 @@ pub struct GridConfig {
     pub normalize: bool,
     /// Structuring element shape. Default octagon.
     pub element: ElementShape,
+    /// T-norm of the dilation. Default sup-min (paper 000).
+    pub dilation: Dilation,
     /// Radius (metres) at which the element's possibility is still 1, per
     /// metre travelled: odometry can be trusted to this fraction. Default 0.1.
     pub core_per_metre: f32,
@@ -185,6 +201,7 @@ impl Default for GridConfig {
             combine: Combine::Product,
             normalize: true,
             element: ElementShape::Octagon,
+            dilation: Dilation::SupMin,
             core_per_metre: 0.1,
             flank_per_metre: 0.2,
             flank_per_second: 0.02,

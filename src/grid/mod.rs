@@ -25,7 +25,7 @@ mod workspace;
 
 pub use cap::Region;
 pub use cells::FuzzyGrid;
-pub use config::{Combine, ElementShape, GridConfig, SensorModel};
+pub use config::{Combine, Dilation, ElementShape, GridConfig, SensorModel};
 pub use estimate::Estimate;
 pub use observe::{Landmark, LandmarkTable, Observation};
 pub use place::LandmarkTruth;

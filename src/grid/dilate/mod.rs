@@ -93,6 +93,7 @@
 
 mod block;
 mod deque;
+pub(crate) mod lukasiewicz;
 mod offsets;
 mod window;
 
@@ -207,6 +208,15 @@ impl FuzzyGrid {
         let (fx, fy) = (clean(flank[0]), clean(flank[1]));
         let dims = (self.nx, self.ny);
         let element = self.cfg.element;
+        if self.cfg.dilation == super::Dilation::Lukasiewicz {
+            let radii = lukasiewicz::Radii {
+                core: [cx, cy],
+                flank: [fx, fy],
+            };
+            // The motion element has no bias: no floor.
+            lukasiewicz::dilate(&mut self.h, dims, lukasiewicz::steps(element, radii), 0.0);
+            return;
+        }
         dilate_plane(
             &mut self.h,
             dims,

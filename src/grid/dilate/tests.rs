@@ -315,3 +315,193 @@ fn line_matches_brute_force_on_fixed_cases() {
         }
     }
 }
+
+/// Łukasiewicz dilation `max(0, sup_q G(q) + B(p − q) − 1)` by the element of `s` with bias
+/// `bias`, evaluated from its definition: the core as the set of integer Minkowski sums of its
+/// segments, the distance to it as a shortest path over the eight grid steps (Bellman–Ford),
+/// the supremum over every cell.
+fn lukasiewicz_brute(
+    g: &[f32],
+    (nx, ny): (usize, usize),
+    s: lukasiewicz::Steps,
+    bias: f32,
+) -> Vec<f32> {
+    let (wx, wy) = (2 * nx + 1, 2 * ny + 1); // offsets −nx..=nx, −ny..=ny
+    let idx = |dx: isize, dy: isize| -> Option<usize> {
+        let (i, j) = (dx + nx as isize, dy + ny as isize);
+        (i >= 0 && j >= 0 && (i as usize) < wx && (j as usize) < wy)
+            .then(|| j as usize * wx + i as usize)
+    };
+    let mut dist = vec![f64::INFINITY; wx * wy];
+    let [mx, my, md] = s.half.map(|m| m as isize);
+    for a in -mx..=mx {
+        for b in -my..=my {
+            for c in -md..=md {
+                for d in -md..=md {
+                    if let Some(i) = idx(a + c - d, b + c + d) {
+                        dist[i] = 0.0;
+                    }
+                }
+            }
+        }
+    }
+    let [ax, ay, ad] = s.cost.map(f64::from);
+    let moves = [
+        (1, 0, ax),
+        (-1, 0, ax),
+        (0, 1, ay),
+        (0, -1, ay),
+        (1, 1, ad),
+        (-1, -1, ad),
+        (1, -1, ad),
+        (-1, 1, ad),
+    ];
+    loop {
+        let mut changed = false;
+        for dy in -(ny as isize)..=ny as isize {
+            for dx in -(nx as isize)..=nx as isize {
+                let Some(i) = idx(dx, dy) else { continue };
+                for &(mx, my, c) in &moves {
+                    if let Some(j) = idx(dx + mx, dy + my) {
+                        if dist[j] + c < dist[i] {
+                            dist[i] = dist[j] + c;
+                            changed = true;
+                        }
+                    }
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    let element = |dx: isize, dy: isize| -> f64 {
+        let d = idx(dx, dy).map_or(f64::INFINITY, |i| dist[i]);
+        f64::from(bias).max((1.0 - d).max(0.0))
+    };
+    let mut out = vec![0.0f32; nx * ny];
+    for py in 0..ny {
+        for px in 0..nx {
+            let mut best = 0.0f64;
+            for qy in 0..ny {
+                for qx in 0..nx {
+                    let e = element(px as isize - qx as isize, py as isize - qy as isize);
+                    best = best.max(f64::from(g[qy * nx + qx]) + e - 1.0);
+                }
+            }
+            out[py * nx + px] = best as f32;
+        }
+    }
+    out
+}
+
+/// The split (flat core, cone sweeps, floor) equals the Łukasiewicz dilation's definition
+/// evaluated by brute force: exactly where the belief keeps away from the border by the
+/// core's reach (the core's segments only see the grid), and never above it anywhere.
+#[test]
+fn lukasiewicz_split_is_the_definition() {
+    let mut rnd = crate::grid::test_rng(2024);
+    let mut exact_cases = 0;
+    for case in 0..160 {
+        let nx = 4 + (rnd() * 9.0) as usize;
+        let ny = 4 + (rnd() * 9.0) as usize;
+        let element = if case % 3 == 0 {
+            ElementShape::Square
+        } else {
+            ElementShape::Octagon
+        };
+        let core = if case % 4 == 0 {
+            [0.0, 0.0]
+        } else {
+            [rnd() * 6.0, rnd() * 6.0]
+        };
+        let flank = match case % 5 {
+            0 => [0.0, 0.0],
+            1 => {
+                let f = 0.2 + rnd() * 9.0;
+                [f, f]
+            }
+            _ => [0.2 + rnd() * 9.0, 0.2 + rnd() * 9.0],
+        };
+        let bias = if case % 2 == 0 { 0.0 } else { rnd() * 0.6 };
+        let s = lukasiewicz::steps(element, lukasiewicz::Radii { core, flank });
+        let margin_x = s.half[0] + 2 * s.half[2];
+        let margin_y = s.half[1] + 2 * s.half[2];
+        let sparse = case % 2 == 1;
+        let mut g: Vec<f32> = (0..nx * ny)
+            .map(|_| {
+                let v = rnd();
+                if sparse && v < 0.8 {
+                    0.0
+                } else {
+                    v
+                }
+            })
+            .collect();
+        let whole = lukasiewicz_brute(&g, (nx, ny), s, bias);
+        let mut got = g.clone();
+        lukasiewicz::dilate(&mut got, (nx, ny), s, bias);
+        for (i, (&a, &b)) in got.iter().zip(&whole).enumerate() {
+            assert!(
+                a <= b + 1e-5,
+                "case {case}: cell {i}: {a} above the definition's {b}"
+            );
+            assert!(
+                a >= g[i] - 1e-6 || a >= b - 1e-5,
+                "case {case}: cell {i} lowered"
+            );
+        }
+        if s.half == [0, 0, 0] || (2 * margin_x < nx && 2 * margin_y < ny) {
+            for j in 0..ny {
+                for i in 0..nx {
+                    let inside = (margin_x..nx - margin_x).contains(&i)
+                        && (margin_y..ny - margin_y).contains(&j);
+                    if !inside {
+                        g[j * nx + i] = 0.0;
+                    }
+                }
+            }
+            let want = lukasiewicz_brute(&g, (nx, ny), s, bias);
+            let mut got = g.clone();
+            lukasiewicz::dilate(&mut got, (nx, ny), s, bias);
+            for (i, (&a, &b)) in got.iter().zip(&want).enumerate() {
+                assert!(
+                    (a - b).abs() <= 1e-5,
+                    "case {case} {s:?}: cell {i}: {a} vs {b}"
+                );
+            }
+            exact_cases += 1;
+        }
+    }
+    assert!(exact_cases > 60, "only {exact_cases} exact comparisons");
+}
+
+/// Hand-worked: a single 1 under the isotropic octagon of flank 4 cells and no core: the
+/// chamfer cone, 1 − 1/4 per axis step and 1 − √2/4 per diagonal step, 0 from 4 axis steps.
+#[test]
+fn lukasiewicz_cone_by_hand() {
+    let (nx, ny) = (11, 11);
+    let mut g = vec![0.0f32; nx * ny];
+    g[5 * nx + 5] = 1.0;
+    let s = lukasiewicz::steps(
+        ElementShape::Octagon,
+        lukasiewicz::Radii {
+            core: [0.0; 2],
+            flank: [4.0; 2],
+        },
+    );
+    lukasiewicz::dilate(&mut g, (nx, ny), s, 0.0);
+    let at = |x: usize, y: usize| g[y * nx + x];
+    assert_eq!(at(5, 5), 1.0);
+    assert!((at(7, 5) - 0.5).abs() < 1e-6);
+    assert!((at(5, 2) - 0.25).abs() < 1e-6);
+    assert_eq!(at(9, 5), 0.0);
+    assert!((at(6, 6) - (1.0 - SQRT_2 / 4.0)).abs() < 1e-6);
+    // (2, 1) away: one diagonal and one axis step.
+    assert!((at(7, 6) - (1.0 - (1.0 + SQRT_2) / 4.0)).abs() < 1e-6);
+    // A bias of 0.3 floors the plane at max g + b − 1 = 0.3.
+    let mut h = vec![0.0f32; nx * ny];
+    h[0] = 1.0;
+    lukasiewicz::dilate(&mut h, (nx, ny), s, 0.3);
+    assert!((h[nx * ny - 1] - 0.3).abs() < 1e-6);
+}
