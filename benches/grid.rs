@@ -20,7 +20,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
 use lplace::core::angle::wrap_pi_f32 as wrap_pi;
-use lplace::grid::{FuzzyGrid, GridConfig, Motion, Trapezoid};
+use lplace::grid::{Dilation, FuzzyGrid, GridConfig, Motion, Trapezoid};
 
 fn empty(nx: usize, ny: usize) -> FuzzyGrid {
     let s = 0.1;
@@ -73,6 +73,21 @@ fn noise(nx: usize, ny: usize) -> FuzzyGrid {
     g
 }
 
+/// The same belief under another dilation rule.
+fn with_rule(g: &FuzzyGrid, rule: Dilation) -> FuzzyGrid {
+    let cfg = GridConfig {
+        dilation: rule,
+        ..g.config().clone()
+    };
+    let (x0, y0) = g.origin();
+    let s = g.cell_size();
+    let bounds = [x0, y0, x0 + g.nx() as f32 * s, y0 + g.ny() as f32 * s];
+    let mut out = FuzzyGrid::new(cfg, bounds).unwrap();
+    assert_eq!((out.nx(), out.ny()), (g.nx(), g.ny()));
+    out.possibilities_mut().copy_from_slice(g.possibilities());
+    out
+}
+
 fn bench(c: &mut Criterion) {
     for (nx, ny) in [(20usize, 30usize), (200, 300)] {
         let name = format!("{nx}x{ny}");
@@ -122,20 +137,27 @@ fn bench(c: &mut Criterion) {
                 BatchSize::PerIteration,
             )
         });
-        for (belief, grid) in [
-            ("dilate", &base),
-            ("dilate_peak", &peak(nx, ny)),
-            ("dilate_noise", &noise(nx, ny)),
-        ] {
-            for r in [1usize, 5, 10, 30] {
-                let radius = r as f32 * 0.1;
-                grp.bench_with_input(BenchmarkId::new(belief, r), &radius, |b, &radius| {
-                    b.iter_batched_ref(
-                        || grid.clone(),
-                        |g| g.dilate(0.0, black_box(radius)),
-                        BatchSize::PerIteration,
-                    )
-                });
+        // The plane alone, the dilation's own input and output.
+        let plane = base.possibilities().to_vec();
+        grp.bench_function("copy_plane", |b| b.iter(|| black_box(plane.clone())));
+        for (rule, tag) in [(Dilation::SupMin, ""), (Dilation::Lukasiewicz, "luk_")] {
+            for (belief, grid) in [
+                ("dilate", &base),
+                ("dilate_peak", &peak(nx, ny)),
+                ("dilate_noise", &noise(nx, ny)),
+            ] {
+                let grid = with_rule(grid, rule);
+                for r in [1usize, 2, 5, 10, 20, 30] {
+                    let radius = r as f32 * 0.1;
+                    let id = BenchmarkId::new(format!("{tag}{belief}"), r);
+                    grp.bench_with_input(id, &radius, |b, &radius| {
+                        b.iter_batched_ref(
+                            || grid.clone(),
+                            |g| g.dilate(0.0, black_box(radius)),
+                            BatchSize::PerIteration,
+                        )
+                    });
+                }
             }
         }
         grp.bench_function("estimate", |b| b.iter(|| black_box(base.estimate())));

@@ -31,16 +31,19 @@
 //!   `u ← max(u, u_prev − step)`: O(1) per cell at any radius. The diagonal cost is raised to
 //!   at least the axis costs, so that a shortest path is monotone in both coordinates and stays
 //!   in the grid: the passes then give the exact supremum over the grid's cells.
-//! * Columns and diagonals sweep whole rows at a time (vector code); rows sweep eight rows side
-//!   by side, so that eight independent chains hide the latency of the serial recurrence.
+//! * The cone's column and diagonal steps are one sweep up the rows and one down, whole rows at
+//!   a time (vector code); its row steps are taken on each row while the sweep up holds it, by
+//!   doubling (`⌈log₂(K + 1)⌉` vector sweeps of the row each way, `K < s` the reach in cells),
+//!   since the recurrence along a row is serial.
 //!
 //! Near the border the flat core's segments only see cells of the grid (as the sup-min
 //! passes' do); the cone is exact up to the border.
 //!
 //! # Complexity
 //!
-//! O(cells) for the cone (eight sweeps) and O(cells · log core) for the core, whatever the
-//! flank; no allocation, no workspace.
+//! O(cells) for the cone's column and diagonal steps (two sweeps of the plane), O(cells · log K)
+//! for its row steps on rows held in cache, and O(cells · log core) for the core; no
+//! allocation (one line of scratch space).
 
 use super::super::ElementShape;
 use std::f32::consts::SQRT_2;
@@ -88,27 +91,39 @@ pub(crate) fn steps(element: ElementShape, r: Radii) -> Steps {
 
 /// Dilates the plane `h` (`nx × ny`, row-major) in place by the element of `steps` with
 /// element bias `bias`, under the Łukasiewicz t-norm (module docs).
-pub(crate) fn dilate(h: &mut [f32], (nx, ny): (usize, usize), steps: Steps, bias: f32) {
-    if nx == 0 || ny == 0 || h.len() != nx * ny {
+///
+/// `line` is scratch space of at least `nx` values.
+pub(crate) fn dilate(
+    h: &mut [f32],
+    (nx, ny): (usize, usize),
+    steps: Steps,
+    bias: f32,
+    line: &mut [f32],
+) {
+    if nx == 0 || ny == 0 || h.len() != nx * ny || line.len() < nx {
         return;
     }
-    let mut top = 0.0f32;
-    for v in h.iter_mut() {
-        // Values in [0, 1], NaN to 0 (as the sup-min passes assume).
-        let c = if *v < 1.0 { *v } else { 1.0 };
-        *v = if *v >= 0.0 { c } else { 0.0 };
-        top = top.max(*v);
+    // Values in [0, 1], NaN to 0 (as the sup-min passes assume); the maximum in eight lanes
+    // so that it vectorizes.
+    let mut lanes = [0.0f32; 8];
+    let mut chunks = h.chunks_exact_mut(8);
+    for chunk in &mut chunks {
+        for (v, t) in chunk.iter_mut().zip(lanes.iter_mut()) {
+            *v = unit(*v);
+            *t = mx(*t, *v);
+        }
     }
-    let [mx, my, md] = steps.half;
-    flat_rows(h, nx, mx);
+    for v in chunks.into_remainder() {
+        *v = unit(*v);
+        lanes[0] = mx(lanes[0], *v);
+    }
+    let top = lanes.iter().fold(0.0f32, |a, &b| mx(a, b));
+    let [hx, my, md] = steps.half;
+    flat_rows(h, nx, hx, line);
     flat_lines(h, nx, 0, my);
     flat_lines(h, nx, 1, md);
     flat_lines(h, nx, -1, md);
-    let [ax, ay, ad] = steps.cost;
-    cone_rows(h, nx, ax);
-    cone_lines(h, nx, 0, ay);
-    cone_lines(h, nx, 1, ad);
-    cone_lines(h, nx, -1, ad);
+    cone(h, nx, steps.cost, line);
     let floor = if bias.is_finite() {
         top + bias.clamp(0.0, 1.0) - 1.0
     } else {
@@ -134,8 +149,9 @@ fn doubling(m: usize) -> impl Iterator<Item = usize> {
     })
 }
 
-/// Flat dilation of every row by the segment `[−m, m]`.
-fn flat_rows(h: &mut [f32], nx: usize, m: usize) {
+/// Flat dilation of every row by the segment `[−m, m]`, by doubling both ways, each sweep out
+/// of place through `line`.
+fn flat_rows(h: &mut [f32], nx: usize, m: usize, line: &mut [f32]) {
     if m == 0 {
         return;
     }
@@ -144,17 +160,12 @@ fn flat_rows(h: &mut [f32], nx: usize, m: usize) {
             if s >= nx {
                 break;
             }
-            // Ahead: row[x] = max(row[x..=x+span]); ascending x reads unchanged samples.
-            for x in 0..nx - s {
-                row[x] = row[x].max(row[x + s]);
+            line[..nx].copy_from_slice(row);
+            for (r, &l) in row[s..].iter_mut().zip(&line[..nx - s]) {
+                *r = mx(*r, l);
             }
-        }
-        for s in doubling(m) {
-            if s >= nx {
-                break;
-            }
-            for x in (s..nx).rev() {
-                row[x] = row[x].max(row[x - s]);
+            for (r, &l) in row[..nx - s].iter_mut().zip(&line[s..nx]) {
+                *r = mx(*r, l);
             }
         }
     }
@@ -187,7 +198,7 @@ fn flat_lines(h: &mut [f32], nx: usize, dx: isize, m: usize) {
                 &mut tail[..nx],
                 &head[(y - s) * nx..(y - s + 1) * nx],
                 -dx * s as isize,
-                f32::max,
+                mx,
             );
         }
     }
@@ -209,56 +220,148 @@ fn max_shifted(dst: &mut [f32], src: &[f32], shift: isize, f: impl Fn(f32, f32) 
     }
 }
 
-/// Max-plus dilation along the lines of step `(dx, 1)` by the 1-D cone of `cost` per step: a
-/// forward and a backward sweep of whole rows.
-fn cone_lines(h: &mut [f32], nx: usize, dx: isize, cost: f32) {
-    let ny = h.len() / nx;
-    if !cost.is_finite() || ny < 2 {
-        return;
-    }
-    let step = |d: f32, s: f32| d.max(s - cost);
-    for y in 1..ny {
-        let (head, tail) = h.split_at_mut(y * nx);
-        // Row y from row y − 1, one step of (dx, 1) back: src at x − dx.
-        max_shifted(&mut tail[..nx], &head[(y - 1) * nx..], -dx, step);
-    }
-    for y in (0..ny - 1).rev() {
-        let (head, tail) = h.split_at_mut((y + 1) * nx);
-        max_shifted(&mut head[y * nx..], &tail[..nx], dx, step);
+/// `v` clamped to [0, 1], NaN to 0, by selects.
+#[inline(always)]
+fn unit(v: f32) -> f32 {
+    let c = if v < 1.0 { v } else { 1.0 };
+    if v >= 0.0 {
+        c
+    } else {
+        0.0
     }
 }
 
-/// Rows swept side by side in [`cone_rows`].
-const BAND: usize = 8;
+/// Larger of two values known not to be NaN: a plain select, which vectorizes to one
+/// instruction (`f32::max`'s NaN rule costs three).
+#[inline(always)]
+fn mx(a: f32, b: f32) -> f32 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
 
-/// Max-plus dilation of every row by the 1-D cone of `cost` per step. The recurrence is serial
-/// along a row, so [`BAND`] rows advance together.
-fn cone_rows(h: &mut [f32], nx: usize, cost: f32) {
-    if !cost.is_finite() || nx < 2 {
+/// Largest number of steps at which a cone of `cost` per step still leaves a value of at most
+/// 1 above 0 (0 when one step already takes it all).
+fn cone_reach(cost: f32) -> usize {
+    if !(cost > 0.0) || !cost.is_finite() {
+        return 0;
+    }
+    // k·cost < 1, counted from the float bound back so that it agrees with the sweeps' own
+    // arithmetic.
+    let mut k = (1.0 / cost).min(1e6).ceil() as usize;
+    while k > 0 && (k as f32) * cost >= 1.0 {
+        k -= 1;
+    }
+    k
+}
+
+/// Max-plus dilation by the chamfer cone with step costs `[row, column, diagonal]`: one sweep
+/// up the rows taking each row from the one before it (column and diagonal steps) and then
+/// along itself (row steps, both ways), and one sweep down taking each row from the one after
+/// it. Every shortest step sequence is one axis and one diagonal direction in the same octant
+/// (the diagonal costs at least each axis step), which the two sweeps take in that order: the
+/// result is exact.
+fn cone(h: &mut [f32], nx: usize, [ax, ay, ad]: [f32; 3], line: &mut [f32]) {
+    let ny = h.len() / nx;
+    let reach_x = cone_reach(ax);
+    let vertical = cone_reach(ay) > 0 || cone_reach(ad) > 0;
+    for y in 0..ny {
+        let (head, tail) = h.split_at_mut(y * nx);
+        let row = &mut tail[..nx];
+        if y > 0 && vertical {
+            from_neighbour_row(row, &head[(y - 1) * nx..], ay, ad);
+        }
+        if reach_x > 0 {
+            cone_row(row, ax, reach_x, &mut line[..nx]);
+        }
+    }
+    if !vertical {
         return;
     }
-    for band in h.chunks_mut(nx * BAND) {
-        let rows = band.len() / nx;
-        let mut run = [0.0f32; BAND];
-        for (r, v) in run.iter_mut().enumerate().take(rows) {
-            *v = band[r * nx];
-        }
-        for x in 1..nx {
-            for (r, v) in run.iter_mut().enumerate().take(rows) {
-                let cell = &mut band[r * nx + x];
-                *v = cell.max(*v - cost);
-                *cell = *v;
+    for y in (0..ny.saturating_sub(1)).rev() {
+        let (head, tail) = h.split_at_mut((y + 1) * nx);
+        from_neighbour_row(&mut head[y * nx..], &tail[..nx], ay, ad);
+    }
+}
+
+/// `row[x] = max(row[x], near[x] − ay, near[x ± 1] − ad)`: one column or diagonal step from
+/// the neighbouring row `near`.
+fn from_neighbour_row(row: &mut [f32], near: &[f32], ay: f32, ad: f32) {
+    let n = row.len();
+    let ay = if ay.is_finite() { ay } else { 2.0 };
+    let ad = if ad.is_finite() { ad } else { 2.0 };
+    if n < 3 {
+        for x in 0..n {
+            let mut v = mx(row[x], near[x] - ay);
+            if x > 0 {
+                v = mx(v, near[x - 1] - ad);
             }
-        }
-        for (r, v) in run.iter_mut().enumerate().take(rows) {
-            *v = band[r * nx + nx - 1];
-        }
-        for x in (0..nx - 1).rev() {
-            for (r, v) in run.iter_mut().enumerate().take(rows) {
-                let cell = &mut band[r * nx + x];
-                *v = cell.max(*v - cost);
-                *cell = *v;
+            if x + 1 < n {
+                v = mx(v, near[x + 1] - ad);
             }
+            row[x] = v;
+        }
+        return;
+    }
+    row[0] = mx(mx(row[0], near[0] - ay), near[1] - ad);
+    row[n - 1] = mx(mx(row[n - 1], near[n - 1] - ay), near[n - 2] - ad);
+    let mid = row[1..n - 1]
+        .iter_mut()
+        .zip(&near[1..n - 1])
+        .zip(near[..n - 2].iter().zip(&near[2..n]));
+    for ((r, &c), (&l, &rr)) in mid {
+        *r = mx(mx(*r, c - ay), mx(l, rr) - ad);
+    }
+}
+
+/// The 1-D cone along one row (both ways), reaching `reach` steps: sweeps by doubling,
+/// `u[x] = max(u[x], u[x − s] − s·cost, u[x + s] − s·cost)`, `⌈log₂(reach + 1)⌉` of them, each
+/// out of place (between `row` and `line`, in turn) so that it vectorizes.
+fn cone_row(row: &mut [f32], cost: f32, reach: usize, line: &mut [f32]) {
+    let n = row.len();
+    let mut in_line = false;
+    for s in doubling(reach) {
+        if s >= n {
+            break;
+        }
+        let drop = s as f32 * cost;
+        let (src, dst): (&[f32], &mut [f32]) = if in_line {
+            (&*line, &mut *row)
+        } else {
+            (&*row, &mut *line)
+        };
+        both_ways(src, dst, s, drop);
+        in_line = !in_line;
+    }
+    if in_line {
+        row.copy_from_slice(line);
+    }
+}
+
+/// `dst[x] = max(src[x], src[x − s] − drop, src[x + s] − drop)` over the samples that exist.
+#[inline(always)]
+fn both_ways(src: &[f32], dst: &mut [f32], s: usize, drop: f32) {
+    let n = src.len();
+    // Ends: one neighbour only (or none when the row is shorter than 2s).
+    for x in (0..s.min(n)).chain(n.saturating_sub(s).max(s)..n) {
+        let mut v = src[x];
+        if x >= s {
+            v = mx(v, src[x - s] - drop);
+        }
+        if x + s < n {
+            v = mx(v, src[x + s] - drop);
+        }
+        dst[x] = v;
+    }
+    if n > 2 * s {
+        let mid = dst[s..n - s]
+            .iter_mut()
+            .zip(&src[s..n - s])
+            .zip(src[..n - 2 * s].iter().zip(&src[2 * s..]));
+        for ((d, &c), (&l, &r)) in mid {
+            *d = mx(c, mx(l, r) - drop);
         }
     }
 }

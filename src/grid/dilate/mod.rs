@@ -214,7 +214,8 @@ impl FuzzyGrid {
                 flank: [fx, fy],
             };
             // The motion element has no bias: no floor.
-            lukasiewicz::dilate(&mut self.h, dims, lukasiewicz::steps(element, radii), 0.0);
+            let steps = lukasiewicz::steps(element, radii);
+            lukasiewicz::dilate(&mut self.h, dims, steps, 0.0, &mut self.work.line);
             return;
         }
         dilate_plane(

@@ -440,7 +440,7 @@ fn lukasiewicz_split_is_the_definition() {
             .collect();
         let whole = lukasiewicz_brute(&g, (nx, ny), s, bias);
         let mut got = g.clone();
-        lukasiewicz::dilate(&mut got, (nx, ny), s, bias);
+        lukasiewicz::dilate(&mut got, (nx, ny), s, bias, &mut vec![0.0; nx]);
         for (i, (&a, &b)) in got.iter().zip(&whole).enumerate() {
             assert!(
                 a <= b + 1e-5,
@@ -463,7 +463,7 @@ fn lukasiewicz_split_is_the_definition() {
             }
             let want = lukasiewicz_brute(&g, (nx, ny), s, bias);
             let mut got = g.clone();
-            lukasiewicz::dilate(&mut got, (nx, ny), s, bias);
+            lukasiewicz::dilate(&mut got, (nx, ny), s, bias, &mut vec![0.0; nx]);
             for (i, (&a, &b)) in got.iter().zip(&want).enumerate() {
                 assert!(
                     (a - b).abs() <= 1e-5,
@@ -490,7 +490,7 @@ fn lukasiewicz_cone_by_hand() {
             flank: [4.0; 2],
         },
     );
-    lukasiewicz::dilate(&mut g, (nx, ny), s, 0.0);
+    lukasiewicz::dilate(&mut g, (nx, ny), s, 0.0, &mut [0.0; 11]);
     let at = |x: usize, y: usize| g[y * nx + x];
     assert_eq!(at(5, 5), 1.0);
     assert!((at(7, 5) - 0.5).abs() < 1e-6);
@@ -502,6 +502,6 @@ fn lukasiewicz_cone_by_hand() {
     // A bias of 0.3 floors the plane at max g + b − 1 = 0.3.
     let mut h = vec![0.0f32; nx * ny];
     h[0] = 1.0;
-    lukasiewicz::dilate(&mut h, (nx, ny), s, 0.3);
+    lukasiewicz::dilate(&mut h, (nx, ny), s, 0.3, &mut [0.0; 11]);
     assert!((h[nx * ny - 1] - 0.3).abs() < 1e-6);
 }
