@@ -103,32 +103,25 @@ pub(crate) fn dilate(
     if nx == 0 || ny == 0 || h.len() != nx * ny || line.len() < nx {
         return;
     }
-    // Values in [0, 1], NaN to 0 (as the sup-min passes assume); the maximum in eight lanes
-    // so that it vectorizes.
-    let mut lanes = [0.0f32; 8];
-    let mut chunks = h.chunks_exact_mut(8);
-    for chunk in &mut chunks {
-        for (v, t) in chunk.iter_mut().zip(lanes.iter_mut()) {
-            *v = unit(*v);
-            *t = mx(*t, *v);
-        }
+    // Values in [0, 1], NaN to 0 (as the sup-min passes assume): here when a flat core comes
+    // first, else row by row in the cone's first sweep, while the row is in cache.
+    let flat = steps.half != [0, 0, 0];
+    if flat {
+        h.iter_mut().for_each(|v| *v = unit(*v));
     }
-    for v in chunks.into_remainder() {
-        *v = unit(*v);
-        lanes[0] = mx(lanes[0], *v);
-    }
-    let top = lanes.iter().fold(0.0f32, |a, &b| mx(a, b));
     let [hx, my, md] = steps.half;
     flat_rows(h, nx, hx, line);
     flat_lines(h, nx, 0, my);
     flat_lines(h, nx, 1, md);
     flat_lines(h, nx, -1, md);
-    cone(h, nx, steps.cost, line);
-    let floor = if bias.is_finite() {
-        top + bias.clamp(0.0, 1.0) - 1.0
-    } else {
-        0.0
-    };
+    cone(h, nx, steps.cost, line, !flat);
+    if !(bias > 0.0) {
+        return; // no floor (also for a NaN bias)
+    }
+    // Both dilations keep the plane's maximum (every value is some cell's minus a cost ≥ 0,
+    // and each cell keeps its own), so the input's `max g` is the output's.
+    let top = max_of(h);
+    let floor = top + bias.min(1.0) - 1.0;
     if floor > 0.0 {
         for v in h.iter_mut() {
             *v = v.max(floor);
@@ -220,6 +213,19 @@ fn max_shifted(dst: &mut [f32], src: &[f32], shift: isize, f: impl Fn(f32, f32) 
     }
 }
 
+/// Largest value of the plane (values in [0, 1]), in eight lanes so that it vectorizes.
+fn max_of(h: &[f32]) -> f32 {
+    let mut lanes = [0.0f32; 8];
+    let mut chunks = h.chunks_exact(8);
+    for chunk in &mut chunks {
+        for (t, &v) in lanes.iter_mut().zip(chunk) {
+            *t = mx(*t, v);
+        }
+    }
+    let rest = chunks.remainder().iter().fold(0.0f32, |a, &b| mx(a, b));
+    lanes.iter().fold(rest, |a, &b| mx(a, b))
+}
+
 /// `v` clamped to [0, 1], NaN to 0, by selects.
 #[inline(always)]
 fn unit(v: f32) -> f32 {
@@ -263,13 +269,18 @@ fn cone_reach(cost: f32) -> usize {
 /// it. Every shortest step sequence is one axis and one diagonal direction in the same octant
 /// (the diagonal costs at least each axis step), which the two sweeps take in that order: the
 /// result is exact.
-fn cone(h: &mut [f32], nx: usize, [ax, ay, ad]: [f32; 3], line: &mut [f32]) {
+///
+/// With `clamp`, the sweep up first clamps each row to [0, 1] (NaN to 0).
+fn cone(h: &mut [f32], nx: usize, [ax, ay, ad]: [f32; 3], line: &mut [f32], clamp: bool) {
     let ny = h.len() / nx;
     let reach_x = cone_reach(ax);
     let vertical = cone_reach(ay) > 0 || cone_reach(ad) > 0;
     for y in 0..ny {
         let (head, tail) = h.split_at_mut(y * nx);
         let row = &mut tail[..nx];
+        if clamp {
+            row.iter_mut().for_each(|v| *v = unit(*v));
+        }
         if y > 0 && vertical {
             from_neighbour_row(row, &head[(y - 1) * nx..], ay, ad);
         }

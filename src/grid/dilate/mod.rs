@@ -33,6 +33,10 @@
 //! * `window.rs`: window maxima (van Herk / Gil–Werman) for the groups where
 //!   the element's flank cannot act.
 //! * `block.rs`: the 16-lane block primitives the last two are written in.
+//! * `lukasiewicz.rs`: the other rule, [`crate::grid::Dilation::Lukasiewicz`]
+//!   (`max(0, G + B − 1)` instead of `min`): a flat core, a chamfer cone and
+//!   a floor, O(1) per cell at every radius. [`FuzzyGrid::dilate`] follows
+//!   the configuration; sup-min is the default.
 //!
 //! The buffers live in the grid's workspace (`grid/workspace.rs`), apart
 //! from the belief: the passes take the plane and the workspace as
