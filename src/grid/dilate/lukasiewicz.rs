@@ -115,7 +115,7 @@ pub(crate) fn dilate(
     flat_lines(h, nx, 1, md);
     flat_lines(h, nx, -1, md);
     cone(h, nx, steps.cost, line, !flat);
-    if !(bias > 0.0) {
+    if bias.is_nan() || bias <= 0.0 {
         return; // no floor (also for a NaN bias)
     }
     // Both dilations keep the plane's maximum (every value is some cell's minus a cost ≥ 0,
@@ -251,7 +251,7 @@ fn mx(a: f32, b: f32) -> f32 {
 /// Largest number of steps at which a cone of `cost` per step still leaves a value of at most
 /// 1 above 0 (0 when one step already takes it all).
 fn cone_reach(cost: f32) -> usize {
-    if !(cost > 0.0) || !cost.is_finite() {
+    if !cost.is_finite() || cost <= 0.0 {
         return 0;
     }
     // k·cost < 1, counted from the float bound back so that it agrees with the sweeps' own
