@@ -12,6 +12,12 @@
 //!   of the dilation's early exits: no lane of a block finds its window
 //!   maximum, so every block runs every offset.
 //!
+//! Every dilation runs at r = 1, 2, 5, 10, 20, 30 cells under both rules
+//! (`dilate*`: sup-min; `luk_dilate*`: Łukasiewicz, issue 20's goal of
+//! ≤ 2.5× the clone at every radius), next to `clone` (the whole grid) and
+//! `copy_plane` (the possibility plane alone). Under a loaded host compare
+//! CPU times instead (`docs/grid-bench.md`).
+//!
 //! Updates in place (`update_range`, `update_range_bearing`) reach the steady
 //! state of a repeated sighting (≈ 96 % of the cells at the floor); the
 //! `_fresh` and `_known` variants and every dilation work on a fresh copy per
