@@ -1,5 +1,5 @@
 //! The project's vocabulary: the few types and conversions every layer shares — a planar pose,
-//! one odometry increment in SI units, angle wrapping, the seeded random generator, the one
+//! one odometry increment in SI units, angle wrapping, the compass directions, the seeded random generator, the one
 //! reader of RON configuration files, and paper 000's trapezoid shape with its two bias readings.
 //!
 //! Everything above uses these and nothing else for the same idea; unit conversions (degrees in
@@ -7,6 +7,7 @@
 //! writers in `io`, never inside the models. Depends on nothing in the crate.
 
 pub mod angle;
+pub mod compass;
 pub mod config;
 pub mod odometry;
 pub mod pose;

@@ -18,20 +18,7 @@
 //! A place with no `wall`/`open`/`door` statement has no derived `free`.
 
 use super::place::{Expected, Extent, Place};
-
-/// The compass directions of the extractor's `free_range` percept (`percept::compass`), with
-/// their map-frame angles (degrees counter-clockwise from +x). The map layer cannot see the
-/// percept layer; a test keeps the two tables equal.
-pub const COMPASS: [(&str, f64); 8] = [
-    ("East", 0.0),
-    ("North", 90.0),
-    ("West", 180.0),
-    ("South", 270.0),
-    ("NorthEast", 45.0),
-    ("NorthWest", 135.0),
-    ("SouthWest", 225.0),
-    ("SouthEast", 315.0),
-];
+use crate::core::compass::DIRECTIONS;
 
 /// The shortest free range expected anywhere: a robot keeps about this far from a wall.
 pub const NEAR_M: f64 = 0.3;
@@ -69,10 +56,10 @@ pub fn free_range(place: &Place, dir: &str) -> Option<Expected> {
     if place.walls.is_empty() && place.opens.is_empty() && place.doors.is_empty() {
         return None;
     }
-    let &(_, deg) = COMPASS.iter().find(|(n, _)| *n == dir)?;
+    let &(_, deg) = DIRECTIONS.iter().find(|(n, _)| *n == dir)?;
     let cardinal = |a: f64| {
         let k = (a.rem_euclid(360.0) / 90.0).round() as usize % 4;
-        side(place, COMPASS[k].0)
+        side(place, DIRECTIONS[k].0)
     };
     let is_diagonal = deg % 90.0 != 0.0;
     let kind = if is_diagonal {

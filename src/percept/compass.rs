@@ -231,19 +231,9 @@ impl CompassConfig {
     }
 }
 
-/// The compass directions, in the order of [`CompassTracker::step`]'s output, with their
-/// rule-file names and map-frame angles (degrees CCW from +x): the four cardinal ones first
-/// (what `directions: 4` emits), then the diagonals.
-pub const DIRECTIONS: [(&str, f64); 8] = [
-    ("East", 0.0),
-    ("North", 90.0),
-    ("West", 180.0),
-    ("South", 270.0),
-    ("NorthEast", 45.0),
-    ("NorthWest", 135.0),
-    ("SouthWest", 225.0),
-    ("SouthEast", 315.0),
-];
+/// The compass directions, in the order of [`CompassTracker::step`]'s output (the one table in
+/// [`crate::core::compass`]).
+pub use crate::core::compass::DIRECTIONS;
 
 /// One compass percept: `free_range(direction)` with its value (ln metres) and degree.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

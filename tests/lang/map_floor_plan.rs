@@ -293,14 +293,6 @@ fn free_ranges_of_a_room_a_door_and_overrides() {
 }
 
 #[test]
-fn compass_table_is_the_extractors() {
-    assert_eq!(
-        lplace::map::expect::COMPASS,
-        lplace::percept::compass::DIRECTIONS
-    );
-}
-
-#[test]
 fn the_reference_example_loads() {
     let doc = include_str!("../../docs/languages.md");
     let section = doc

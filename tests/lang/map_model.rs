@@ -157,28 +157,34 @@ fn bellman_ford(n: usize, edges: &[(usize, usize, f64)]) -> Vec<f64> {
     all
 }
 
+/// A map of `n` junctions with a path per distinct pair of `raw` (lengths in tenths of a metre,
+/// ends taken modulo `n`), and the same edges for the reference.
+fn random_graph(n: usize, raw: &[(usize, usize, u32)]) -> (Map, Vec<(usize, usize, f64)>) {
+    let mut text = String::new();
+    for i in 0..n {
+        text.push_str(&format!("place N{i} junction at ({i}, 0);\n"));
+    }
+    let mut seen = std::collections::BTreeSet::new();
+    let mut edges = Vec::new();
+    for &(a, b, w) in raw {
+        let (a, b) = (a % n, b % n);
+        if a == b || !seen.insert((a.min(b), a.max(b))) {
+            continue;
+        }
+        let w = f64::from(w) / 10.0;
+        text.push_str(&format!("path N{a} -- N{b} length {w};\n"));
+        edges.push((a, b, w));
+    }
+    (map(&text), edges)
+}
+
 proptest! {
     #[test]
     fn shortest_paths_match_bellman_ford(
         n in 1usize..8,
         raw in prop::collection::vec((0usize..8, 0usize..8, 1u32..100), 0..20),
     ) {
-        let mut text = String::new();
-        for i in 0..n {
-            text.push_str(&format!("place N{i} junction at ({i}, 0);\n"));
-        }
-        let mut seen = std::collections::BTreeSet::new();
-        let mut edges = Vec::new();
-        for (a, b, w) in raw {
-            let (a, b) = (a % n, b % n);
-            if a == b || !seen.insert((a.min(b), a.max(b))) {
-                continue;
-            }
-            let w = f64::from(w) / 10.0;
-            text.push_str(&format!("path N{a} -- N{b} length {w};\n"));
-            edges.push((a, b, w));
-        }
-        let m = map(&text);
+        let (m, edges) = random_graph(n, &raw);
         let want = bellman_ford(n, &edges);
         for i in 0..n {
             for j in 0..n {
@@ -200,22 +206,7 @@ proptest! {
         raw in prop::collection::vec((0usize..10, 0usize..10, 1u32..60), 0..30),
         bound in 0u32..150,
     ) {
-        let mut text = String::new();
-        for i in 0..n {
-            text.push_str(&format!("place N{i} junction at ({i}, 0);\n"));
-        }
-        let mut seen = std::collections::BTreeSet::new();
-        let mut edges = Vec::new();
-        for (a, b, w) in raw {
-            let (a, b) = (a % n, b % n);
-            if a == b || !seen.insert((a.min(b), a.max(b))) {
-                continue;
-            }
-            let w = f64::from(w) / 10.0;
-            text.push_str(&format!("path N{a} -- N{b} length {w};\n"));
-            edges.push((a, b, w));
-        }
-        let m = map(&text);
+        let (m, edges) = random_graph(n, &raw);
         let want = bellman_ford(n, &edges);
         let bound = f64::from(bound) / 10.0 + 0.05;
         let mut search = lplace::map::dijkstra::BoundedDijkstra::new();
