@@ -350,7 +350,8 @@ mod tests {
 
     #[test]
     fn records_count_blank_lines_and_collect_the_malformed() {
-        let text = "{\"t\":1.0}\n\n{oops\n{\"version\":99}\n{\"t\":2.0}\n";
+        let text = "{\"t\":1.0,\"percepts\":[]}\n\n{oops\n{\"version\":99,\"percepts\":[]}\n\
+                    {\"t\":2.0,\"percepts\":[]}\n";
         let got = read_records(text.as_bytes()).expect("read");
         assert_eq!(got.frames.len(), 2);
         let lines: Vec<usize> = got.rejected.iter().map(|r| r.0).collect();
@@ -359,7 +360,7 @@ mod tests {
 
     #[test]
     fn bad_quantiles_and_rules_without_links_are_errors_not_panics() {
-        let map = SourceFile::new("m.map", "map m;\nplace P at (0, 0);\n");
+        let map = SourceFile::new("m.map", crate::engine::OFFICE_MAP);
         let rules = SourceFile::new("r.lpl", "percept w(value, time);\n");
         let cfg = SurveyConfig {
             lo: 0.9,

@@ -126,9 +126,13 @@ fn first_visits_fit_on_the_first_and_score_the_later_ones() {
         err_lines[2].starts_with("survey: later visits (held out): 5 scan(s) at a place"),
         "{err}"
     );
-    // Fitting on every frame sees the second visit: P0's upper angle is one of its 300s.
+    // Fitting on every frame sees the second visit: 15 values at P0, lo = v[⌊0.1·14⌋] = v[1],
+    // hi = v[⌊0.9·14⌋] = v[12], one of the 300s (9.0 m).
     let (_, all, _) = survey(&stream, &[]);
-    assert!(all.contains("param A = 10.00 .. 300.00;"), "{all}");
+    assert!(
+        all.contains("param A = 20.00 .. 300.00; param L = 1.10 .. 9.00;"),
+        "{all}"
+    );
 }
 
 #[test]
