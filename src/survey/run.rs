@@ -286,7 +286,7 @@ impl Survey {
             .enumerate()
             .map(|(k, p)| (p.name.clone(), k))
             .collect();
-        let mut run = StreamRun::new(engine, Some(tracker.clone()));
+        let mut run = StreamRun::new(engine, Some(*tracker));
         let visit = visits(frames, labels, self.cfg.visit_gap_m);
         let decisions = decide_all(&mut run, frames);
         let truth: Vec<Option<usize>> = labels
