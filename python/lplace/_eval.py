@@ -1,7 +1,9 @@
-"""Stream evaluation and log extraction: ``evaluate``, ``iter_batches``, ``extract``.
+"""Stream evaluation, log extraction and map surveys: ``evaluate``, ``iter_batches``,
+``extract``, ``survey``.
 
-Each function steps frames through the same Rust loop as ``lplace eval`` (``report::StreamRun``)
-and only shapes its columns here into a ``pyarrow.Table``. Depends on the extension module
+Each function calls the same Rust code as its command (``report::StreamRun`` for
+``lplace eval``, ``survey::Survey`` for ``lplace survey``) and only shapes its columns here into
+a ``pyarrow.Table``. Depends on the extension module
 (``lplace._lplace``), numpy and pyarrow.
 """
 
@@ -250,9 +252,114 @@ def extract(
     )
 
 
-def survey(*args: Any, **kwargs: Any) -> Any:
-    """Not available yet: ``lplace survey`` is being built as a command first; this will wrap it
-    once it exists. Raises ``NotImplementedError``."""
-    raise NotImplementedError(
-        "lplace.survey: the `lplace survey` command does not exist yet in this version"
+class SurveyResult(NamedTuple):
+    """What ``survey`` returns."""
+
+    #: The map text with the fitted parameters written in (``lplace survey``'s output).
+    map_text: str
+    #: One row per fitted place (columns: see ``SURVEY_SCHEMA``), places in name order.
+    table: pa.Table
+    #: With ``fit="first-visits"``: the score of the written map on the later visits
+    #: (``at_place``, ``decided``, ``right``, ``confidently_wrong``, their rates, and ``text``,
+    #: the line ``lplace survey`` prints); ``None`` with ``fit="all"``.
+    held_out: Optional[Dict[str, Any]]
+    #: One dict per rejected stream line: ``line``, ``kind``, ``message``.
+    rejected: List[Dict[str, Any]]
+
+
+#: The columns of a survey's per-place table, in order.
+SURVEY_SCHEMA = pa.schema(
+    [
+        ("place", pa.string()),
+        ("scans", pa.uint64()),
+        ("spread", pa.float64()),
+        ("warning", pa.string()),
+    ]
+)
+
+#: Ground truth: a CSV ``t,place`` file, or ``(t, place)`` pairs (``place`` ``None`` between
+#: places).
+LabelsArg = Union[str, "os.PathLike[str]", Iterable[Tuple[float, Optional[str]]], None]
+
+
+def survey(
+    stream: StreamSource,
+    map: Union[str, "os.PathLike[str]", None] = None,
+    rules: Union[str, "os.PathLike[str]", None] = None,
+    *,
+    labels: LabelsArg = None,
+    fit: str = "all",
+    tracker: Union[str, "os.PathLike[str]", None] = None,
+    quantiles: Tuple[float, float] = (0.1, 0.9),
+    min_scans: int = 10,
+) -> SurveyResult:
+    """Fits each place's expected percept values from a run with ground truth and writes them
+    into the map, as ``lplace survey`` does (the same map text, byte for byte).
+
+    Args:
+        stream: the survey run's percept stream (JSON Lines): a path, its bytes, an iterable of
+            its lines, or ``None`` for the bundled office recording.
+        map, rules: the map to fill in and the rules saying which percepts feed which place
+            parameters; both ``None`` for the bundled office example.
+        labels: the ground truth, when the frames carry no ``truth.place``: a CSV ``t,place``
+            path (``--labels``) or ``(t, place)`` pairs; each frame takes the label nearest in
+            time, within 0.5 s.
+        fit: ``"all"`` (every frame with a place) or ``"first-visits"`` (each place's first
+            visit; the later visits are scored with the map so written).
+        tracker: tracker configuration file (RON) for the held-out score of first visits.
+        quantiles: ``(lo, hi)``, the quantiles of a place's readings bounding its range.
+        min_scans: places fitted from fewer frames get a warning.
+
+    Returns:
+        ``SurveyResult(map_text, table, held_out, rejected)``.
+
+    Raises:
+        CheckError: the map or rules do not parse, or (first visits) the written map does not
+            load with the rules.
+        OSError: a file cannot be read.
+        ValueError: bad quantiles, labels, tracker configuration or ``fit``; rules that link no
+            percept with a place parameter; a fitted place the map does not declare.
+    """
+    if fit not in ("all", "first-visits"):
+        raise ValueError(f'fit must be "all" or "first-visits", not {fit!r}')
+    lo, hi = (float(q) for q in quantiles)
+    if (map is None) != (rules is None):
+        raise TypeError("give both map and rules (or neither, for the bundled office)")
+    label_args: Dict[str, Any] = {}
+    if isinstance(labels, (str, os.PathLike)):
+        label_args["labels_path"] = os.fspath(labels)
+    elif labels is not None:
+        label_args["labels_rows"] = [
+            (float(t), None if p is None else str(p)) for t, p in labels
+        ]
+    ron = None
+    if tracker is not None:
+        with open(os.fspath(tracker), encoding="utf-8") as f:
+            ron = f.read()
+    d = _lplace.survey_run(
+        map_path=None if map is None else os.fspath(map),
+        rules_path=None if rules is None else os.fspath(rules),
+        **_source(stream),
+        **label_args,
+        first_visits=fit == "first-visits",
+        tracker=ron,
+        lo=lo,
+        hi=hi,
+        min_scans=int(min_scans),
     )
+    table = pa.Table.from_arrays(
+        [
+            pa.array(d["place"], pa.string()),
+            pa.array(d["scans"], pa.uint64()),
+            pa.array(d["spread"], pa.float64()),
+            pa.array(d["warning"], pa.string()),
+        ],
+        schema=SURVEY_SCHEMA,
+    )
+    rejected = [
+        {"line": line, "kind": kind, "message": message}
+        for line, kind, message in zip(
+            d["rejected_line"], d["rejected_kind"], d["rejected_message"]
+        )
+    ]
+    return SurveyResult(d["map_text"], table, d["held_out"], rejected)

@@ -113,6 +113,22 @@ def extract_carmen(
     config: Optional[str] = None,
     out: Optional[_Path] = None,
 ) -> Dict[str, Any]: ...
+def survey_run(
+    map_path: Optional[_Path] = None,
+    rules_path: Optional[_Path] = None,
+    path: Optional[_Path] = None,
+    data: Optional[bytes] = None,
+    labels_path: Optional[_Path] = None,
+    labels_rows: Optional[List[Tuple[float, Optional[str]]]] = None,
+    first_visits: bool = False,
+    tracker: Optional[str] = None,
+    lo: float = 0.1,
+    hi: float = 0.9,
+    min_scans: int = 10,
+) -> Dict[str, Any]:
+    """``lplace survey`` (use ``lplace.survey``): ``map_text``, report columns ``place``,
+    ``scans``, ``spread``, ``warning``, ``held_out`` and the ``rejected_*`` lines."""
+
 def rust_loop_ns(
     engine: Engine,
     degrees: npt.NDArray[np.float64],

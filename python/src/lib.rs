@@ -1,10 +1,11 @@
 //! The `lplace._lplace` extension module: the engine ([`engine`]), stream evaluation
-//! ([`stream`]) and CARMEN extraction ([`extract`]) of the `lplace` crate, for the pure-Python
-//! package `lplace` (python/lplace) that wraps them into numpy arrays, pyarrow tables and Ray tasks.
+//! ([`stream`]), CARMEN extraction ([`extract`]) and map surveys ([`survey`]) of the `lplace`
+//! crate, for the pure-Python package `lplace` (python/lplace) that wraps them into numpy
+//! arrays, pyarrow tables and Ray tasks.
 //!
-//! Nothing here decides anything: every decision, summary and percept stream comes from the
-//! crate's own code (`Engine`, `report::StreamRun`, `io::carmen_stream`), so that Python and the
-//! command line give the same results. This crate only converts values and errors at the
+//! Nothing here decides anything: every decision, summary, percept stream and surveyed map comes
+//! from the crate's own code (`Engine`, `report::StreamRun`, `io::carmen_stream`,
+//! `survey::Survey`), so that Python and the command line give the same results. This crate only converts values and errors at the
 //! boundary and releases the GIL around long loops. Errors cross as Python exceptions:
 //! diagnostics as `lplace.CheckError` (defined in Python, `lplace/_errors.py`), bad arguments as
 //! `ValueError`/`KeyError`/`TypeError`, unreadable files as `OSError`.
@@ -18,6 +19,7 @@ mod engine;
 mod errors;
 mod extract;
 mod stream;
+mod survey;
 
 /// The bundled office recording, which `lplace eval` reads when given no stream.
 const OFFICE_RECORDING: &str = include_str!("../../recordings/office.jsonl");
@@ -29,6 +31,7 @@ fn _lplace(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<stream::StreamBatches>()?;
     m.add_function(wrap_pyfunction!(stream::evaluate_columns, m)?)?;
     m.add_function(wrap_pyfunction!(extract::extract_carmen, m)?)?;
+    m.add_function(wrap_pyfunction!(survey::survey_run, m)?)?;
     m.add_function(wrap_pyfunction!(engine::rust_loop_ns, m)?)?;
     m.add("REASONS", stream::REASONS.to_vec())?;
     m.add("OFFICE_MAP", lplace::engine::OFFICE_MAP)?;

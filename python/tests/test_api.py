@@ -186,8 +186,6 @@ def test_io_and_argument_errors(tmp_path):
         e.step_many(np.zeros((4, len(e.slots))), np.zeros((3, len(e.slots))))
     with pytest.raises((TypeError, ValueError)):
         e.step_many(np.zeros((4, 2 * len(e.slots)))[:, ::2])  # not C-contiguous
-    with pytest.raises(NotImplementedError):
-        lplace.survey()
 
 
 def test_hostile_arrays_do_not_raise():

@@ -143,6 +143,20 @@ pub enum RecordError {
     },
 }
 
+impl RecordError {
+    /// A short, stable name of the kind of problem (the names of `io::stream`'s rejections).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            RecordError::Malformed { .. } => "malformed",
+            RecordError::Version { .. } => "version",
+            RecordError::UnknownPercept { .. } => "unknown_percept",
+            RecordError::Degree { degree, .. } if degree.is_nan() => "nan",
+            RecordError::Degree { .. } => "degree_out_of_range",
+            RecordError::Value { .. } => "not_finite",
+        }
+    }
+}
+
 impl FrameRecord {
     /// Parses one JSON record.
     pub fn parse(text: &str) -> Result<FrameRecord, RecordError> {

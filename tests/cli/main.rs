@@ -12,3 +12,4 @@ mod cli_grid;
 mod cli_hostile;
 mod cli_report;
 mod cli_simulate;
+mod cli_survey;

@@ -18,6 +18,12 @@
 //! `visit_gap_m` (odometry) without a frame in the place, so jitter across a boundary does not
 //! start new visits. [`Protocol::FirstVisits`] fits on each place's first visit only, so that
 //! the later visits are held-out data.
+//!
+//! # One survey, end to end
+//! [`Survey`] (in `run`) is the whole of `lplace survey` below the command line: from the
+//! texts of the map and rules and the records of the run to the written map text, the
+//! per-place report and, for first-visit fits, the score on the later visits. The command line
+//! and the Python binding both call it; they only read files and print.
 
 use std::collections::BTreeMap;
 
@@ -26,6 +32,13 @@ use crate::io::stream::FrameMeta;
 use crate::logic::Decision;
 use crate::report::run::StreamRun;
 use crate::syntax::ast::{Feature, Formula, MapFile, MapItem, RuleFile, RuleItem, Term};
+
+mod run;
+
+pub use run::{
+    label_frames, parse_labels, read_records, LabelRow, PlaceReport, Records, Survey,
+    SurveyOutcome, Truth,
+};
 
 /// A percept feeding a map parameter (from the rules).
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
@@ -106,9 +119,33 @@ impl PlaceFit {
     }
 }
 
-/// Why a map could not be written.
+/// Why a survey could not be made or its map not written.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SurveyError {
+    /// The map or the rules do not parse, or the written map does not load with the rules
+    /// (first-visit scoring): every diagnostic, with the file to render them against.
+    #[error(transparent)]
+    Load(#[from] crate::engine::LoadError),
+    /// Quantiles outside `0 ≤ lo ≤ hi ≤ 1` (or NaN).
+    #[error("quantiles need 0 ≤ lo ≤ hi ≤ 1, not {lo} and {hi}")]
+    Quantiles {
+        /// Lower quantile given.
+        lo: f64,
+        /// Upper quantile given.
+        hi: f64,
+    },
+    /// No rule links a percept with a place parameter.
+    #[error("{rules}: no rule compares a percept with a place parameter (such as `free_i(d)`): nothing to fit")]
+    NothingToFit {
+        /// The rule file's name.
+        rules: String,
+    },
+    /// A row of a labels CSV that is neither `t,place` nor a header.
+    #[error("line {line}: expected `t,place`")]
+    LabelRow {
+        /// 1-based line.
+        line: usize,
+    },
     /// A fitted place is not declared in the map.
     #[error("place `{place}` was fitted but the map does not declare it")]
     UnknownPlace {

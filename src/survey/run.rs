@@ -1,0 +1,406 @@
+//! One survey from texts and records to results: [`Survey::new`] parses the map and the rules
+//! and checks the configuration, [`Survey::run`] labels the frames, fits, writes the map text
+//! by spans and, for first-visit fits, scores the later visits. Also the two readers the
+//! callers share: the run's records ([`read_records`], from any reader, no file of its own) and
+//! a labels CSV ([`parse_labels`], from its text). Printing, file names on the command line and
+//! Python values are the callers' business (`cli::survey`, the `lplace-python` crate).
+
+use std::collections::BTreeMap;
+use std::io::BufRead;
+
+use super::{
+    decide_all, fit, links_from_rules, visits, write_params, ParamLink, PlaceFit, Protocol, Score,
+    SurveyConfig, SurveyError,
+};
+use crate::engine::tracker::TrackerConfig;
+use crate::engine::{CompileOptions, Engine, FileRole, LoadError};
+use crate::io::record::{FrameRecord, RecordError};
+use crate::report::run::StreamRun;
+use crate::syntax::ast::MapFile;
+use crate::syntax::diagnostic::SourceFile;
+use crate::syntax::{parse_map, parse_rules};
+
+/// The warning a place fitted from fewer than `min_scans` frames carries.
+const FEW_SCANS: &str = "few scans, the fit is unreliable";
+
+/// Records read from a stream: the parsed ones, and each line that was not one.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Records {
+    /// The parsed records, in stream order.
+    pub frames: Vec<FrameRecord>,
+    /// `(line, why)` of every rejected line (1-based, blank lines counted).
+    pub rejected: Vec<(usize, RecordError)>,
+}
+
+/// Every record of a JSON Lines stream; blank lines are skipped, malformed ones collected.
+///
+/// # Errors
+/// The reader's own error (unreadable, not UTF-8).
+pub fn read_records(reader: impl BufRead) -> std::io::Result<Records> {
+    let mut out = Records::default();
+    for (n, line) in reader.lines().enumerate() {
+        let line = line?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        match FrameRecord::parse(&line) {
+            Ok(f) => out.frames.push(f),
+            Err(e) => out.rejected.push((n + 1, e)),
+        }
+    }
+    Ok(out)
+}
+
+/// One row of ground truth: from time `t` on, the robot is at `place` (`None`: between places).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LabelRow {
+    /// Time, seconds, on the stream's clock.
+    pub t: f64,
+    /// The place, `None` between places.
+    pub place: Option<String>,
+}
+
+/// The rows of a labels CSV `t,place`: a header and blank or `#` lines are skipped, an empty
+/// place is "between places". Sorted by time.
+///
+/// # Errors
+/// [`SurveyError::LabelRow`] for a row after the first whose time is not a finite number.
+pub fn parse_labels(text: &str) -> Result<Vec<LabelRow>, SurveyError> {
+    let mut rows = Vec::new();
+    for (n, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let (t, place) = line.split_once(',').unwrap_or((line, ""));
+        match t.trim().parse::<f64>() {
+            Ok(t) if t.is_finite() => {
+                let p = place.trim();
+                rows.push(LabelRow {
+                    t,
+                    place: (!p.is_empty()).then(|| p.to_owned()),
+                });
+            }
+            _ if n == 0 => {} // a header
+            _ => return Err(SurveyError::LabelRow { line: n + 1 }),
+        }
+    }
+    rows.sort_by(|a, b| a.t.total_cmp(&b.t));
+    Ok(rows)
+}
+
+/// Each frame's label: the row nearest its time, if within 0.5 s. Rows need not be sorted;
+/// rows with a non-finite time are ignored.
+pub fn label_frames(frames: &[FrameRecord], rows: &[LabelRow]) -> Vec<Option<String>> {
+    let mut rows: Vec<&LabelRow> = rows.iter().filter(|r| r.t.is_finite()).collect();
+    rows.sort_by(|a, b| a.t.total_cmp(&b.t));
+    frames
+        .iter()
+        .map(|f| {
+            let t = f.t?;
+            let i = rows.partition_point(|r| r.t < t);
+            let near = [i.checked_sub(1), Some(i)]
+                .into_iter()
+                .flatten()
+                .filter_map(|k| rows.get(k))
+                .min_by(|a, b| (a.t - t).abs().total_cmp(&(b.t - t).abs()))?;
+            ((near.t - t).abs() <= 0.5)
+                .then(|| near.place.clone())
+                .flatten()
+        })
+        .collect()
+}
+
+/// Where each frame's true place comes from.
+#[derive(Debug, Clone, Copy)]
+pub enum Truth<'a> {
+    /// The records' own `truth.place`.
+    Records,
+    /// The label nearest in time ([`label_frames`]).
+    Labels(&'a [LabelRow]),
+}
+
+/// What the survey says about one fitted place.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlaceReport {
+    /// The place.
+    pub place: String,
+    /// Frames its fit used.
+    pub scans: usize,
+    /// [`PlaceFit::spread`]: the median width of its fitted ranges.
+    pub spread: f64,
+    /// Fitted from fewer than the configuration's `min_scans` frames.
+    pub few_scans: bool,
+}
+
+impl PlaceReport {
+    /// The warning about this place's fit, if any.
+    pub fn warning(&self) -> Option<&'static str> {
+        self.few_scans.then_some(FEW_SCANS)
+    }
+}
+
+impl std::fmt::Display for PlaceReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}: {} scan(s), median spread {:.2}",
+            self.place, self.scans, self.spread
+        )?;
+        match self.warning() {
+            Some(w) => write!(f, "  WARNING: {w}"),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Everything a survey produces.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurveyOutcome {
+    /// The map text with the fitted parameters written in (every other byte as it was).
+    pub map_text: String,
+    /// The fits, places in name order.
+    pub fits: Vec<PlaceFit>,
+    /// One row per fitted place, in the order of `fits`.
+    pub report: Vec<PlaceReport>,
+    /// With [`Protocol::FirstVisits`]: how the written map does on the later visits.
+    pub held_out: Option<Score>,
+}
+
+/// A map and rules ready to be surveyed with a configuration.
+#[derive(Debug, Clone)]
+pub struct Survey {
+    map: SourceFile,
+    map_ast: MapFile,
+    rules: SourceFile,
+    links: Vec<ParamLink>,
+    cfg: SurveyConfig,
+}
+
+impl Survey {
+    /// Parses the map and the rules (not checked against each other: only the map's text and
+    /// the rules' percept → parameter links are needed) and checks the quantiles.
+    ///
+    /// # Errors
+    /// [`SurveyError::Load`] with the diagnostics of the first file that does not parse,
+    /// [`SurveyError::Quantiles`] unless `0 ≤ lo ≤ hi ≤ 1`.
+    pub fn new(
+        map: SourceFile,
+        rules: SourceFile,
+        cfg: SurveyConfig,
+    ) -> Result<Survey, SurveyError> {
+        let fail = |role, file: &SourceFile, diagnostics| LoadError {
+            role,
+            file: file.clone(),
+            diagnostics,
+        };
+        let map_ast = parse_map(&map.text).map_err(|d| fail(FileRole::Map, &map, d))?;
+        let rules_ast = parse_rules(&rules.text).map_err(|d| fail(FileRole::Rules, &rules, d))?;
+        if !((0.0..=1.0).contains(&cfg.lo) && (cfg.lo..=1.0).contains(&cfg.hi)) {
+            return Err(SurveyError::Quantiles {
+                lo: cfg.lo,
+                hi: cfg.hi,
+            });
+        }
+        Ok(Survey {
+            links: links_from_rules(&rules_ast),
+            map,
+            map_ast,
+            rules,
+            cfg,
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &SurveyConfig {
+        &self.cfg
+    }
+
+    /// Fits the places of `frames` under `protocol` and writes them into the map text; with
+    /// [`Protocol::FirstVisits`], also runs the engine and `tracker` over every frame with the
+    /// written map and scores the later visits (the tracker sees the whole run, as it would
+    /// live).
+    ///
+    /// # Errors
+    /// [`SurveyError::NothingToFit`] when no rule links a percept with a place parameter;
+    /// [`SurveyError::UnknownPlace`] / [`SurveyError::SpanMismatch`] when the map cannot be
+    /// written; [`SurveyError::Load`] when the written map does not load with the rules.
+    pub fn run(
+        &self,
+        frames: &[FrameRecord],
+        truth: Truth<'_>,
+        protocol: Protocol,
+        tracker: &TrackerConfig,
+    ) -> Result<SurveyOutcome, SurveyError> {
+        let labels = match truth {
+            Truth::Records => frames
+                .iter()
+                .map(|f| f.truth.as_ref().and_then(|t| t.place.clone()))
+                .collect(),
+            Truth::Labels(rows) => label_frames(frames, rows),
+        };
+        if self.links.is_empty() {
+            return Err(SurveyError::NothingToFit {
+                rules: self.rules.name.clone(),
+            });
+        }
+        let fits = fit(frames, &labels, &self.links, protocol, &self.cfg);
+        let report = fits
+            .iter()
+            .map(|f| PlaceReport {
+                place: f.place.clone(),
+                scans: f.scans,
+                spread: f.spread(),
+                few_scans: f.scans < self.cfg.min_scans,
+            })
+            .collect();
+        let map_text = write_params(&self.map.text, &self.map_ast, &fits)?;
+        let held_out = match protocol {
+            Protocol::All => None,
+            Protocol::FirstVisits => {
+                let written = SourceFile::new(self.map.name.clone(), map_text.clone());
+                Some(self.held_out(&written, tracker, frames, &labels)?)
+            }
+        };
+        Ok(SurveyOutcome {
+            map_text,
+            fits,
+            report,
+            held_out,
+        })
+    }
+
+    /// The score of the written map on the frames of later visits.
+    fn held_out(
+        &self,
+        map: &SourceFile,
+        tracker: &TrackerConfig,
+        frames: &[FrameRecord],
+        labels: &[Option<String>],
+    ) -> Result<Score, SurveyError> {
+        let engine = Engine::load_with(map, &self.rules, &CompileOptions::default())?;
+        let names: BTreeMap<String, usize> = engine
+            .map()
+            .places()
+            .iter()
+            .enumerate()
+            .map(|(k, p)| (p.name.clone(), k))
+            .collect();
+        let mut run = StreamRun::new(engine, Some(*tracker));
+        let visit = visits(frames, labels, self.cfg.visit_gap_m);
+        let decisions = decide_all(&mut run, frames);
+        let truth: Vec<Option<usize>> = labels
+            .iter()
+            .map(|l| l.as_ref().and_then(|l| names.get(l)).copied())
+            .collect();
+        Ok(Score::of(&decisions, &truth, |k| {
+            visit.get(k).copied().flatten().is_some_and(|v| v > 0)
+        }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(t: f64) -> FrameRecord {
+        FrameRecord {
+            version: None,
+            t: Some(t),
+            odometry: None,
+            heading: None,
+            region: None,
+            percepts: Vec::new(),
+            truth: None,
+        }
+    }
+
+    fn row(t: f64, place: Option<&str>) -> LabelRow {
+        LabelRow {
+            t,
+            place: place.map(str::to_owned),
+        }
+    }
+
+    #[test]
+    fn frames_take_the_label_nearest_in_time_within_half_a_second() {
+        let frames = [at(0.0), at(1.0), at(2.0), at(2.3)];
+        // Unsorted on purpose: label_frames sorts.
+        let rows = [row(2.35, None), row(0.1, Some("A")), row(1.9, Some("B"))];
+        let got = label_frames(&frames, &rows);
+        // 1.0 is 0.9 s from both rows: no label; 2.3 is nearest the "between places" row.
+        assert_eq!(
+            got,
+            vec![Some("A".to_owned()), None, Some("B".to_owned()), None]
+        );
+    }
+
+    #[test]
+    fn labels_csv_skips_a_header_and_rejects_a_bad_row_by_line() {
+        let rows = parse_labels("t,place\n\n2.0,B\n# note\n1.0, A \n3.0,\n").expect("parsed");
+        assert_eq!(
+            rows,
+            vec![row(1.0, Some("A")), row(2.0, Some("B")), row(3.0, None)]
+        );
+        assert_eq!(
+            parse_labels("t,place\n1.0,A\nnan,B\n"),
+            Err(SurveyError::LabelRow { line: 3 })
+        );
+    }
+
+    #[test]
+    fn records_count_blank_lines_and_collect_the_malformed() {
+        let text = "{\"t\":1.0,\"percepts\":[]}\n\n{oops\n{\"version\":99,\"percepts\":[]}\n\
+                    {\"t\":2.0,\"percepts\":[]}\n";
+        let got = read_records(text.as_bytes()).expect("read");
+        assert_eq!(got.frames.len(), 2);
+        let lines: Vec<usize> = got.rejected.iter().map(|r| r.0).collect();
+        assert_eq!(lines, vec![3, 4]);
+    }
+
+    #[test]
+    fn bad_quantiles_and_rules_without_links_are_errors_not_panics() {
+        let map = SourceFile::new("m.map", crate::engine::OFFICE_MAP);
+        let rules = SourceFile::new("r.lpl", "percept w(value, time);\n");
+        let cfg = SurveyConfig {
+            lo: 0.9,
+            hi: 0.1,
+            ..SurveyConfig::default()
+        };
+        assert!(matches!(
+            Survey::new(map.clone(), rules.clone(), cfg),
+            Err(SurveyError::Quantiles { .. })
+        ));
+        let cfg = SurveyConfig {
+            lo: f64::NAN,
+            ..SurveyConfig::default()
+        };
+        assert!(Survey::new(map.clone(), rules.clone(), cfg).is_err());
+        let s = Survey::new(map, rules, SurveyConfig::default()).expect("parses");
+        let got = s.run(
+            &[at(0.0)],
+            Truth::Records,
+            Protocol::All,
+            &TrackerConfig::default(),
+        );
+        assert_eq!(
+            got,
+            Err(SurveyError::NothingToFit {
+                rules: "r.lpl".to_owned()
+            })
+        );
+    }
+
+    #[test]
+    fn a_map_that_does_not_parse_is_a_load_error_on_the_map() {
+        let map = SourceFile::new("m.map", "map m;\nplace P at (0, ;\n");
+        let rules = SourceFile::new("r.lpl", "percept w(value, time);\n");
+        match Survey::new(map, rules, SurveyConfig::default()) {
+            Err(SurveyError::Load(e)) => {
+                assert_eq!(e.role, FileRole::Map);
+                assert!(!e.diagnostics.is_empty());
+            }
+            other => panic!("expected a load error, got {other:?}"),
+        }
+    }
+}
