@@ -10,6 +10,7 @@ mod evidence_per_metre;
 mod extract_rosbag2;
 mod fuzz_corpus;
 mod intel_accuracy;
+mod mrclam_hostile;
 mod stream_fastpath;
 mod stream_hostile;
 mod stream_readahead;
