@@ -60,8 +60,10 @@ pub fn judge(previous: Option<f64>, t: f64, next: Option<f64>, policy: TimePolic
             _ => TimeVerdict::Backwards { previous: p },
         };
     }
-    match next {
-        Some(n) if n < t && previous.map_or(true, |p| n >= p) => TimeVerdict::Outlier { next: n },
+    // The first timed record has one neighbour only: between it and a lower second time there
+    // is nothing to tell which is wrong, so the earlier is kept (and the second is "backwards").
+    match (previous, next) {
+        (Some(p), Some(n)) if n < t && n >= p => TimeVerdict::Outlier { next: n },
         _ => TimeVerdict::Keep,
     }
 }
@@ -90,7 +92,8 @@ mod tests {
     #[test]
     fn one_jump_forward_is_the_one_rejected() {
         assert_eq!(kept(&[1.0, 1e9, 3.0, 4.0], Monotone), [0, 2, 3]);
-        assert_eq!(kept(&[1e9, 1.0, 2.0], Monotone), [1, 2]);
+        // The first time has one neighbour: nothing tells which of the two is wrong.
+        assert_eq!(kept(&[1e9, 1.0, 2.0], Monotone), [0]);
         assert_eq!(kept(&[1.0, 2.0, 1e9], Monotone), [0, 1, 2]);
     }
 

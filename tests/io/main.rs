@@ -11,6 +11,8 @@ mod extract_rosbag2;
 mod fuzz_corpus;
 mod intel_accuracy;
 mod mrclam_hostile;
+mod stream_csv;
 mod stream_fastpath;
 mod stream_hostile;
 mod stream_readahead;
+mod stream_time;
