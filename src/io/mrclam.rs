@@ -249,7 +249,7 @@ fn parse_rows<R: BufRead, T>(
     file: FileKind,
     cols: usize,
     mut f: impl FnMut(&[f64], &[&str]) -> Result<T, LineProblem>,
-) -> Result<(Vec<(usize, T)>, Vec<MrclamError>), MrclamError> {
+) -> Result<Lenient<Vec<(usize, T)>>, MrclamError> {
     let mut buf = Vec::new();
     let mut line = 0usize;
     let mut nums = Vec::with_capacity(cols);
@@ -258,7 +258,12 @@ fn parse_rows<R: BufRead, T>(
         buf.clear();
         line += 1;
         match r.read_until(b'\n', &mut buf) {
-            Ok(0) => return Ok((rows, errors)),
+            Ok(0) => {
+                return Ok(Lenient {
+                    value: rows,
+                    skipped: errors,
+                })
+            }
             Ok(_) => {}
             Err(source) => return Err(MrclamError::Read { file, line, source }),
         }
@@ -365,7 +370,10 @@ fn id(toks: &[&str], k: usize) -> Result<u32, LineProblem> {
 /// # Errors
 /// A read error of `r`.
 pub fn read_barcodes_lenient<R: BufRead>(r: R) -> Result<Lenient<Barcodes>, MrclamError> {
-    let (rows, skipped) = parse_rows(r, FileKind::Barcodes, 2, |_, t| Ok((id(t, 0)?, id(t, 1)?)))?;
+    let Lenient {
+        value: rows,
+        skipped,
+    } = parse_rows(r, FileKind::Barcodes, 2, |_, t| Ok((id(t, 0)?, id(t, 1)?)))?;
     let mut b = Barcodes::default();
     for (_, (subject, barcode)) in rows {
         b.subject_of.insert(barcode, subject);
@@ -388,7 +396,10 @@ pub fn read_barcodes<R: BufRead>(r: R) -> Result<Barcodes, MrclamError> {
 pub fn read_landmarks_lenient<R: BufRead>(
     r: R,
 ) -> Result<Lenient<Vec<LandmarkTruth>>, MrclamError> {
-    let (rows, skipped) = parse_rows(r, FileKind::LandmarkGroundtruth, 5, |n, t| {
+    let Lenient {
+        value: rows,
+        skipped,
+    } = parse_rows(r, FileKind::LandmarkGroundtruth, 5, |n, t| {
         Ok(LandmarkTruth {
             subject: id(t, 0)?,
             x: n[1],
@@ -414,7 +425,10 @@ pub fn read_landmarks<R: BufRead>(r: R) -> Result<Vec<LandmarkTruth>, MrclamErro
 /// # Errors
 /// A read error of `r`.
 pub fn read_odometry_lenient<R: BufRead>(r: R) -> Result<Lenient<Vec<OdometryRow>>, MrclamError> {
-    let (rows, errors) = parse_rows(r, FileKind::Odometry, 3, |n, _| {
+    let Lenient {
+        value: rows,
+        skipped: errors,
+    } = parse_rows(r, FileKind::Odometry, 3, |n, _| {
         Ok(OdometryRow {
             t: n[0],
             v: n[1],
@@ -442,7 +456,10 @@ pub fn read_measurements_lenient<R: BufRead>(
     r: R,
     codes: &Barcodes,
 ) -> Result<Lenient<Measurements>, MrclamError> {
-    let (rows, errors) = parse_rows(r, FileKind::Measurement, 4, |n, t| {
+    let Lenient {
+        value: rows,
+        skipped: errors,
+    } = parse_rows(r, FileKind::Measurement, 4, |n, t| {
         let barcode = id(t, 1)?;
         if n[2] < 0.0 {
             return Err(LineProblem::NegativeRange);
@@ -484,7 +501,10 @@ pub fn read_measurements<R: BufRead>(r: R, codes: &Barcodes) -> Result<Measureme
 /// # Errors
 /// A read error of `r`.
 pub fn read_groundtruth_lenient<R: BufRead>(r: R) -> Result<Lenient<Vec<TruthRow>>, MrclamError> {
-    let (rows, errors) = parse_rows(r, FileKind::Groundtruth, 4, |n, _| {
+    let Lenient {
+        value: rows,
+        skipped: errors,
+    } = parse_rows(r, FileKind::Groundtruth, 4, |n, _| {
         Ok(TruthRow {
             t: n[0],
             x: n[1],

@@ -6,8 +6,10 @@ use lplace::engine::Engine;
 use lplace::io::stream::{FrameMeta, ReadOutcome, Rejection, Schema, StreamFormat, StreamReader};
 use proptest::prelude::*;
 
-/// Frames read and rejections (line, reason), in order.
-fn read(bytes: &[u8], format: StreamFormat) -> (Vec<(u64, f64)>, Vec<(u64, Rejection)>) {
+/// Frames read (line, degree of `sonar_wall(North)`) and rejections (line, reason), in order.
+type Read = (Vec<(u64, f64)>, Vec<(u64, Rejection)>);
+
+fn read(bytes: &[u8], format: StreamFormat) -> Read {
     let engine = Engine::office().expect("bundled office example loads");
     let schema = Schema::new(engine.percepts(), engine.map());
     let mut reader = StreamReader::new(bytes, schema, format);
