@@ -210,6 +210,12 @@ pub struct EvalArgs {
     /// Stream form; default from the extension (.csv is CSV, else JSON Lines).
     #[arg(long, value_enum, value_name = "FORM")]
     pub input: Option<StreamForm>,
+    /// How times are read: `monotone` (default) rejects a time earlier than the previous
+    /// record's — each time is judged against both neighbours, so one corrupt time is the one
+    /// record rejected; `restart` reads concatenated logs, accepting a clock that starts again
+    /// (each restart reported as a note on stderr).
+    #[arg(long, value_enum, value_name = "ORDER", default_value_t = TimeOrder::Monotone)]
+    pub time: TimeOrder,
     /// Summary after the stream, on stderr.
     #[arg(long, value_enum, default_value_t = SummaryFormat::Text)]
     pub summary: SummaryFormat,
@@ -421,6 +427,31 @@ pub struct FrameInput {
     /// Ignore readings whose degree (reliability) is below this.
     #[arg(long, value_name = "DEGREE", default_value_t = 0.0)]
     pub min_degree: f64,
+    /// How times are read: `monotone` (default) rejects a time earlier than the previous
+    /// record's — each time is judged against both neighbours, so one corrupt time is the one
+    /// record rejected; `restart` reads concatenated logs, accepting a clock that starts again
+    /// (each restart reported as a note on stderr).
+    #[arg(long, value_enum, value_name = "ORDER", default_value_t = TimeOrder::Monotone)]
+    pub time: TimeOrder,
+}
+
+/// `--time`: how a stream's times are read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum TimeOrder {
+    /// Time never goes back.
+    #[default]
+    Monotone,
+    /// Concatenated logs: the clock may start again.
+    Restart,
+}
+
+impl From<TimeOrder> for crate::io::stream::TimePolicy {
+    fn from(t: TimeOrder) -> Self {
+        match t {
+            TimeOrder::Monotone => Self::Monotone,
+            TimeOrder::Restart => Self::Restart,
+        }
+    }
 }
 
 /// The optional injected kidnap, shared by `grid` and `compare`.

@@ -57,7 +57,8 @@ pub fn run(args: &EvalArgs, streams: &[PathBuf], out: &mut impl Write) -> Result
     let mut rows = Vec::with_capacity(streams.len());
     for path in streams {
         let mut run = template.clone();
-        let source = open_source(Some(path), args.input)?;
+        let mut source = open_source(Some(path), args.input)?;
+        source.time = args.time.into();
         let name = source.name.clone();
         evaluate(&mut run, source, |_, _, _| Ok(()))?;
         rows.push(BatchRow::new(name, &run.summary()));

@@ -433,6 +433,8 @@ pub(super) struct Source {
     input: Box<dyn BufRead + Send>,
     size: Option<u64>,
     format: StreamFormat,
+    /// How its times are read (`--time`).
+    pub(super) time: crate::io::stream::TimePolicy,
 }
 
 /// Opens `path` (the bundled office recording for `None`); `--input` overrides the form the
@@ -463,6 +465,7 @@ pub(super) fn open_source(
         input: bytes,
         size,
         format,
+        time: Default::default(),
     })
 }
 
@@ -474,7 +477,8 @@ pub(super) fn evaluate(
     mut on_frame: impl FnMut(&StreamRun, Decision, &FrameMeta) -> Result<(), CliError>,
 ) -> Result<(), CliError> {
     let progress = super::progress::bytes(source.size, &source.name);
-    let reader = StreamReader::new(source.input, run.schema(), source.format);
+    let reader =
+        StreamReader::new(source.input, run.schema(), source.format).with_time_policy(source.time);
     let name = source.name;
     let show_progress = |r: &StreamReader<_>| {
         if let Some(bar) = &progress {
@@ -500,6 +504,10 @@ pub(super) fn evaluate(
                     run.reject(&e.reason);
                 }
                 Record::Frame(frame, meta) => {
+                    if let Some(note) = meta.restart_note() {
+                        let msg = super::stream_input::note(&name, &note);
+                        super::progress::eprint(progress.as_ref(), &msg);
+                    }
                     let d = run.step(frame, meta);
                     on_frame(run, d, meta)?;
                 }
@@ -615,7 +623,8 @@ pub(super) fn new_run(args: &EvalArgs) -> Result<StreamRun, CliError> {
 /// Evaluates one stream, printing its decisions (unless `--only-summary`) and its summary.
 fn run_one(args: &EvalArgs, path: Option<&Path>, out: &mut dyn Write) -> Result<u8, CliError> {
     let run = new_run(args)?;
-    let source = open_source(path, args.input)?;
+    let mut source = open_source(path, args.input)?;
+    source.time = args.time.into();
     let queries = resolve_queries(run.engine(), &args.query)?;
     let places = run.places().to_vec();
     let mut pictures = Pictures::new(args, run.engine(), &places, &source.name);

@@ -60,18 +60,23 @@ fn read_stream(
     path: &Path,
     map: &Map,
     conv: &mut RecordReader,
+    time: crate::io::stream::TimePolicy,
 ) -> Result<(Vec<MetricFrame>, usize), CliError> {
     let stream = super::stream_input::open(path)?;
     let reader = StreamReader::new(
         stream.input,
         landmark_stream::schema(map),
         StreamFormat::from_path(path),
-    );
+    )
+    .with_time_policy(time);
     let mut rejected = 0;
     let name = stream.name;
-    let frames = landmark_stream::read_frames(reader, conv, |e| {
-        eprintln!("{}", super::stream_input::rejection(&name, &e));
-        rejected += 1;
+    let frames = landmark_stream::read_frames(reader, conv, |event| match event {
+        landmark_stream::Event::Rejected(e) => {
+            eprintln!("{}", super::stream_input::rejection(&name, &e));
+            rejected += 1;
+        }
+        landmark_stream::Event::Restart(n) => eprintln!("{}", super::stream_input::note(&name, &n)),
     })
     .map_err(|source| CliError::Read {
         path: name.clone(),
@@ -173,7 +178,12 @@ pub(super) fn load_frames(input: &FrameInput) -> Result<LoadedFrames, CliError> 
             let frames = records.iter().map(|r| reader.convert(r)).collect();
             (frames, rejected)
         }
-        (None, Some(path)) => read_stream(&super::data::resolve(path), &map, &mut reader)?,
+        (None, Some(path)) => read_stream(
+            &super::data::resolve(path),
+            &map,
+            &mut reader,
+            input.time.into(),
+        )?,
         (None, None) => return Err(bad("no STREAM given")),
     };
     Ok(LoadedFrames {

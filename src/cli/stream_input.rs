@@ -7,7 +7,7 @@ use std::io::{BufRead, BufReader};
 use std::path::Path;
 
 use super::CliError;
-use crate::io::stream::LineError;
+use crate::io::stream::{LineError, TimeRestart};
 
 /// Input buffer size: records are a few hundred bytes, and a large buffer lets most lines be
 /// parsed where they lie in it.
@@ -49,6 +49,11 @@ pub(super) fn open(path: &Path) -> Result<StreamInput, CliError> {
         input: Box::new(BufReader::with_capacity(BUFFER, f)),
         size: Some(meta.len()),
     })
+}
+
+/// The note on a record of stream `name` where the clock starts again (`--time restart`).
+pub(super) fn note(name: &str, n: &TimeRestart) -> String {
+    format!("{name}:{n}")
 }
 
 /// The report of a rejected record of stream `name`.

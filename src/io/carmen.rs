@@ -422,7 +422,12 @@ impl<R: BufRead> Iterator for CarmenReader<R> {
             }
             self.line = line;
             self.stats.lines += 1;
-            let Ok(text) = std::str::from_utf8(&self.buf) else {
+            // A UTF-8 byte-order mark before the first line is not part of it.
+            let bytes = match (line, self.buf.strip_prefix(b"\xEF\xBB\xBF")) {
+                (1, Some(rest)) => rest,
+                _ => &self.buf[..],
+            };
+            let Ok(text) = std::str::from_utf8(bytes) else {
                 self.stats.errors += 1;
                 return Some(Err(CarmenError::NotUtf8 { line }));
             };

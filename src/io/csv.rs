@@ -11,10 +11,15 @@
 //! | `deg:NAME` or `deg:NAME(ARG ARG)` | degree of a percept instance; empty = not perceived |
 //! | `val:NAME` or `val:NAME(ARG ARG)` | its measured value; needs the degree in the same row |
 //!
-//! Arguments are separated by spaces (commas would split the cell). Cells are not quoted; `nan`,
-//! `inf` parse as such and are then rejected like their JSON counterparts. A header column that is
-//! none of these, or names an undeclared percept, is reported once (on line 1) and its cells are
-//! ignored. Depends on `io::stream` (schema, checks) and `engine::frame`.
+//! Lines are split by the `csv` crate: a cell may be quoted (`"deg:sonar_wall(North)"`, `""`
+//! for a quote inside), but a record never spans lines (a quote left open is a rejected row), so
+//! that every line yields at most one outcome. Arguments are separated by spaces. `nan`, `inf`
+//! parse as such and are then rejected like their JSON counterparts. The header's problems are
+//! one rejection of line 1 naming each column: a column that is none of these, or names an
+//! undeclared percept, is ignored (its cells unread); a column given twice, or a first line that
+//! names no column (a missing header), leaves the stream unreadable and every row is rejected.
+//! A UTF-8 byte-order mark before the header is ignored (by the stream reader). Depends on
+//! `io::stream` (schema, checks) and `engine::frame`.
 
 use crate::engine::{Frame, PerceptSlot, PerceptTable};
 use crate::io::record::{FrameRecord, FORMAT_VERSION};
@@ -54,6 +59,8 @@ pub struct CsvLayout {
     cols: Vec<Col>,
     percepts: Vec<PerceptCols>,
     has_truth: bool,
+    /// False after a header that cannot be used (repeated or no known column).
+    usable: bool,
 }
 
 /// Splits `NAME(A B)` into the name and its arguments.
@@ -85,16 +92,70 @@ fn fixed_col(cell: &str) -> Option<Col> {
     })
 }
 
-/// One data row split into cells (byte ranges into `text`).
-struct Row<'a> {
-    text: &'a str,
-    fields: &'a [(usize, usize)],
+/// A CSV line's cells, split by the `csv` crate (quoted cells, doubled quotes), kept from row
+/// to row.
+#[derive(Debug, Default)]
+pub(crate) struct Cells {
+    record: csv::ByteRecord,
+    /// The unescaped cells, one after another.
+    text: String,
+    /// Byte range of each cell in `text`.
+    fields: Vec<(usize, usize)>,
+    /// 1-based column (byte) where each cell starts in the line, for messages.
+    columns: Vec<usize>,
 }
 
-impl Row<'_> {
+impl Cells {
+    /// Splits one line (a record never spans lines in a stream: a quote left open is an error).
+    fn split(&mut self, line: &[u8]) -> Result<(), Rejection> {
+        self.text.clear();
+        self.fields.clear();
+        self.columns.clear();
+        let mut quoted = false;
+        self.columns.push(1);
+        for (i, &b) in line.iter().enumerate() {
+            match b {
+                b'"' => quoted = !quoted,
+                b',' if !quoted => self.columns.push(i + 2),
+                _ => {}
+            }
+        }
+        if quoted {
+            let column = line.iter().rposition(|&b| b == b'"').map_or(1, |p| p + 1);
+            return Err(malformed(
+                column,
+                "a quoted cell is not closed on its line".into(),
+            ));
+        }
+        let mut reader = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .flexible(true)
+            .buffer_capacity(line.len().max(64))
+            .from_reader(line);
+        if let Err(e) = reader.read_byte_record(&mut self.record) {
+            return Err(malformed(1, format!("not CSV: {e}")));
+        }
+        for (k, cell) in self.record.iter().enumerate() {
+            let column = self.columns.get(k).copied().unwrap_or(1);
+            let cell = std::str::from_utf8(cell)
+                .map_err(|e| malformed(column + e.valid_up_to(), "not UTF-8".into()))?;
+            let start = self.text.len();
+            self.text.push_str(cell.trim());
+            self.fields.push((start, self.text.len()));
+        }
+        Ok(())
+    }
+
+    fn len(&self) -> usize {
+        self.fields.len()
+    }
+
     fn cell(&self, i: usize) -> &str {
-        let (a, b) = self.fields[i];
-        self.text[a..b].trim()
+        self.fields.get(i).map_or("", |&(a, b)| &self.text[a..b])
+    }
+
+    fn column(&self, i: usize) -> usize {
+        self.columns.get(i).copied().unwrap_or(1)
     }
 
     /// Cell `i` as a number; `None` when empty, or when not a number (then the problem is kept
@@ -107,15 +168,36 @@ impl Row<'_> {
         match c.parse::<f64>() {
             Ok(v) => Some(v),
             Err(_) => {
-                if problem.is_none() {
-                    *problem = Some(Rejection::Malformed {
-                        column: self.fields[i].0 + 1,
-                        message: format!("`{c}` is not a number"),
-                    });
-                }
+                first(problem, || {
+                    malformed(self.column(i), format!("`{c}` is not a number"))
+                });
                 None
             }
         }
+    }
+}
+
+fn malformed(column: usize, message: String) -> Rejection {
+    Rejection::Malformed { column, message }
+}
+
+/// One problem of a CSV header.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct HeaderProblem {
+    /// The header cell.
+    pub column: String,
+    /// What is wrong with it.
+    pub reason: &'static str,
+}
+
+impl HeaderProblem {
+    /// `column `a`: reason; column `b`: reason`, for a message.
+    pub fn list(problems: &[HeaderProblem]) -> String {
+        let parts: Vec<String> = problems
+            .iter()
+            .map(|p| format!("column `{}`: {}", p.column, p.reason))
+            .collect();
+        parts.join("; ")
     }
 }
 
@@ -127,21 +209,41 @@ fn first(problem: &mut Option<Rejection>, r: impl FnOnce() -> Rejection) {
 }
 
 impl CsvLayout {
-    /// Resolves a header row; returns the layout and the problems found in it.
-    pub fn from_header(line: &[u8], schema: &Schema) -> (CsvLayout, Vec<Rejection>) {
-        let text = String::from_utf8_lossy(line);
+    /// Resolves a header row; returns the layout and the rejection of the header line when it
+    /// has problems (every problem column named). A repeated column or a line that names no
+    /// known column (a missing header) makes the layout unusable: every row is then rejected.
+    pub(crate) fn from_header(
+        line: &[u8],
+        schema: &Schema,
+        scratch: &mut Scratch,
+    ) -> (CsvLayout, Option<Rejection>) {
         let mut layout = CsvLayout {
             cols: Vec::new(),
             percepts: Vec::new(),
             has_truth: false,
+            usable: true,
         };
+        let cells = &mut scratch.cells;
+        if let Err(r) = cells.split(line) {
+            layout.usable = false;
+            return (layout, Some(r));
+        }
         let mut problems = Vec::new();
-        for cell in text.split(',') {
-            let cell = cell.trim();
+        for i in 0..cells.len() {
+            let cell = cells.cell(i);
             let col = match fixed_col(cell) {
+                Some(col) if layout.cols.contains(&col) => {
+                    problems.push(HeaderProblem {
+                        column: cell.to_string(),
+                        reason: "given twice",
+                    });
+                    layout.usable = false;
+                    Col::Ignored
+                }
                 Some(col) => col,
-                None => layout.percept_col(cell, schema).unwrap_or_else(|r| {
-                    problems.push(r);
+                None => layout.percept_col(cell, schema).unwrap_or_else(|p| {
+                    layout.usable &= p.reason != "given twice";
+                    problems.push(p);
                     Col::Ignored
                 }),
             };
@@ -153,12 +255,25 @@ impl CsvLayout {
             }
             layout.cols.push(col);
         }
-        (layout, problems)
+        let named = (0..cells.len()).any(|i| {
+            let c = cells.cell(i);
+            fixed_col(c).is_some() || c.starts_with("deg:") || c.starts_with("val:")
+        });
+        if !named {
+            layout.usable = false;
+            problems = vec![HeaderProblem {
+                column: cells.cell(0).to_string(),
+                reason:
+                    "the first line names no column (t, dx, …, deg:NAME): is the header missing?",
+            }];
+        }
+        let problem = (!problems.is_empty()).then_some(Rejection::CsvHeader { problems });
+        (layout, problem)
     }
 
     /// Resolves a `deg:…` or `val:…` header cell (the next column), registering its percept.
-    fn percept_col(&mut self, cell: &str, schema: &Schema) -> Result<Col, Rejection> {
-        let column = |reason| Rejection::CsvColumn {
+    fn percept_col(&mut self, cell: &str, schema: &Schema) -> Result<Col, HeaderProblem> {
+        let column = |reason| HeaderProblem {
             column: cell.to_string(),
             reason,
         };
@@ -168,14 +283,14 @@ impl CsvLayout {
             (false, r)
         } else {
             return Err(column(
-                "not a known column (deg:…, val:…, t, dx, dy, dtheta, heading, truth_…)",
+                "not a known column (deg:…, val:…, t, dx, dy, dtheta, heading, truth_…); its cells are ignored",
             ));
         };
         let (name, args) = split_instance(rest).ok_or_else(|| column("unbalanced parentheses"))?;
         if schema.lookup(name, &args).is_none() {
-            return Err(Rejection::UnknownPercept {
-                instance: crate::io::stream::instance_name(name, &args),
-            });
+            return Err(column(
+                "a percept the rule file does not declare; its cells are ignored",
+            ));
         }
         let k = match self
             .percepts
@@ -201,7 +316,7 @@ impl CsvLayout {
             &mut p.value
         };
         if slot.is_some() {
-            return Err(column("repeated column"));
+            return Err(column("given twice"));
         }
         *slot = Some(i);
         Ok(if is_degree {
@@ -221,51 +336,36 @@ impl CsvLayout {
         meta: &mut FrameMeta,
         problem: &mut Option<Rejection>,
     ) {
-        let text = match std::str::from_utf8(line) {
-            Ok(t) => t,
-            Err(e) => {
-                *problem = Some(Rejection::Malformed {
-                    column: e.valid_up_to() + 1,
-                    message: "not UTF-8".into(),
-                });
-                return;
+        if !self.usable {
+            *problem = Some(Rejection::NoCsvHeader);
+            return;
+        }
+        // The cells live in the scratch space; taken out while `scratch` marks slots.
+        let mut cells = std::mem::take(&mut scratch.cells);
+        match cells.split(line) {
+            Err(r) => *problem = Some(r),
+            Ok(()) if cells.len() == self.cols.len() => {
+                self.read_meta(&cells, schema, meta, problem);
+                self.read_percepts(&cells, schema, scratch, frame, problem);
             }
-        };
-        // The cell ranges live in the scratch space; taken out while `scratch` marks slots.
-        let mut fields = std::mem::take(&mut scratch.fields);
-        fields.clear();
-        let mut start = 0;
-        for (i, b) in text.bytes().enumerate() {
-            if b == b',' {
-                fields.push((start, i));
-                start = i + 1;
+            Ok(()) => {
+                *problem = Some(malformed(
+                    1,
+                    format!(
+                        "row has {} cells, the header has {}",
+                        cells.len(),
+                        self.cols.len()
+                    ),
+                ));
             }
         }
-        fields.push((start, text.len()));
-        if fields.len() == self.cols.len() {
-            let row = Row {
-                text,
-                fields: &fields,
-            };
-            self.read_meta(&row, schema, meta, problem);
-            self.read_percepts(&row, schema, scratch, frame, problem);
-        } else {
-            *problem = Some(Rejection::Malformed {
-                column: 1,
-                message: format!(
-                    "row has {} fields, the header has {}",
-                    fields.len(),
-                    self.cols.len()
-                ),
-            });
-        }
-        scratch.fields = fields;
+        scratch.cells = cells;
     }
 
     /// Reads the row's non-percept cells, in column order.
     fn read_meta(
         &self,
-        row: &Row<'_>,
+        row: &Cells,
         schema: &Schema,
         meta: &mut FrameMeta,
         problem: &mut Option<Rejection>,
@@ -322,7 +422,7 @@ impl CsvLayout {
     /// Reads the row's percept cells, percept by percept in header order.
     fn read_percepts(
         &self,
-        row: &Row<'_>,
+        row: &Cells,
         schema: &Schema,
         scratch: &mut Scratch,
         frame: &mut Frame,
@@ -335,12 +435,14 @@ impl CsvLayout {
                 (Some(d), v) => {
                     put_percept(schema, scratch, frame, problem, &p.name, &p.args, d, v)
                 }
-                (None, Some(_)) => first(problem, || Rejection::Malformed {
-                    column: p.value.map_or(1, |i| row.fields[i].0 + 1),
-                    message: format!(
-                        "a value for `{}` without its degree",
-                        crate::io::stream::instance_name(&p.name, &p.args)
-                    ),
+                (None, Some(_)) => first(problem, || {
+                    malformed(
+                        p.value.map_or(1, |i| row.column(i)),
+                        format!(
+                            "a value for `{}` without its degree",
+                            crate::io::stream::instance_name(&p.name, &p.args)
+                        ),
+                    )
                 }),
                 (None, None) => {}
             }

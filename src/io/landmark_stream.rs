@@ -18,7 +18,7 @@
 
 use crate::engine::{Frame, PerceptInstance};
 use crate::io::mrclam_stream::{Reading, RecordReader, BEARING, RANGE};
-use crate::io::stream::{FrameMeta, LineError, ReadOutcome, Schema, StreamReader};
+use crate::io::stream::{FrameMeta, LineError, ReadOutcome, Schema, StreamReader, TimeRestart};
 use crate::localize::MetricFrame;
 use crate::map::Map;
 use std::collections::BTreeMap;
@@ -75,15 +75,24 @@ pub fn schema(map: &Map) -> Schema {
     Schema::from_instances(instances, places)
 }
 
+/// What [`read_frames`] reports besides the frames.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Event {
+    /// A rejected record.
+    Rejected(LineError),
+    /// A record where the clock starts again (a reader with `TimePolicy::Restart`).
+    Restart(TimeRestart),
+}
+
 /// Reads every record of `reader` (built with [`schema`]) and converts each frame with `conv`;
-/// every rejected record goes to `rejected`, in stream order.
+/// every rejected record and every clock restart goes to `report`, in stream order.
 ///
 /// # Errors
 /// A read error of the input.
 pub fn read_frames<R: BufRead>(
     mut reader: StreamReader<R>,
     conv: &mut RecordReader,
-    mut rejected: impl FnMut(LineError),
+    mut report: impl FnMut(Event),
 ) -> std::io::Result<Vec<MetricFrame>> {
     let mut frame = Frame::new(reader.schema().slots());
     let mut meta = FrameMeta::default();
@@ -91,8 +100,11 @@ pub fn read_frames<R: BufRead>(
     loop {
         match reader.next_frame(&mut frame, &mut meta)? {
             ReadOutcome::End => return Ok(frames),
-            ReadOutcome::Rejected(e) => rejected(e),
+            ReadOutcome::Rejected(e) => report(Event::Rejected(e)),
             ReadOutcome::Frame => {
+                if let Some(n) = meta.restart_note() {
+                    report(Event::Restart(n));
+                }
                 let schema = reader.schema();
                 let percepts = reader.percept_order().iter().filter_map(|&slot| {
                     let instance = schema.instance(slot)?;
@@ -151,7 +163,11 @@ mod tests {
         let reader = StreamReader::new(text.as_bytes(), schema(&map()), StreamFormat::JsonLines);
         let mut conv = RecordReader::new([("A".to_string(), 6), ("B".to_string(), 9)]);
         let mut bad = Vec::new();
-        let frames = read_frames(reader, &mut conv, |e| bad.push(e)).expect("in memory");
+        let frames = read_frames(reader, &mut conv, |e| match e {
+            Event::Rejected(e) => bad.push(e),
+            Event::Restart(n) => panic!("no restart asked for: {n}"),
+        })
+        .expect("in memory");
         assert_eq!(frames.len(), 1);
         // B was written first (its bearing), so its sighting comes first.
         let subjects: Vec<u32> = frames[0].observations.iter().map(|o| o.subject).collect();

@@ -16,5 +16,6 @@ pub mod record;
 #[cfg(feature = "rosbag2")]
 pub mod rosbag2;
 pub mod stream;
+pub mod time_order;
 pub mod tum;
 pub mod uci;

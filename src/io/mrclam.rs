@@ -14,7 +14,7 @@
 //!
 //! # Complexity
 //!
-//! Reading is O(lines). [`merge`] is O((odometry + measurements) + frames ·
+//! Reading, lenient or not, is O(lines). [`merge`] is O((odometry + measurements) + frames ·
 //! log truth).
 //!
 //! # Example
@@ -33,6 +33,7 @@
 
 use crate::core::{Odometry, Pose2};
 use crate::grid::LandmarkTruth;
+use crate::io::time_order::{judge, TimePolicy, TimeVerdict};
 use crate::localize::{interpolate_truth, LandmarkReading, MetricFrame, TruthRow};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -77,6 +78,19 @@ pub enum LineProblem {
     },
     /// A range is negative.
     NegativeRange,
+    /// The line is not UTF-8.
+    NotUtf8 {
+        /// 1-based byte column of the first bad byte.
+        column: usize,
+    },
+    /// A time later than the next row's, which itself follows the previous row: this one
+    /// time is out of place (a corrupt timestamp).
+    TimeOutlier {
+        /// This row's time.
+        time: f64,
+        /// The next row's time.
+        next: f64,
+    },
     /// A time is earlier than the previous row's.
     TimeGoesBack {
         /// Previous time.
@@ -97,6 +111,11 @@ impl std::fmt::Display for LineProblem {
             }
             LineProblem::NonFinite { column } => write!(f, "column {column}: not a finite number"),
             LineProblem::NegativeRange => write!(f, "negative range"),
+            LineProblem::NotUtf8 { column } => write!(f, "column {column}: not UTF-8"),
+            LineProblem::TimeOutlier { time, next } => write!(
+                f,
+                "time {time} is out of place (after it comes {next}, which follows the rows before)"
+            ),
             LineProblem::TimeGoesBack { previous, time } => {
                 write!(f, "time {time} is before the previous row's {previous}")
             }
@@ -128,6 +147,15 @@ pub enum MrclamError {
         #[source]
         source: std::io::Error,
     },
+}
+
+impl MrclamError {
+    /// The 1-based line the error is about.
+    pub fn line(&self) -> usize {
+        match self {
+            MrclamError::Malformed { line, .. } | MrclamError::Read { line, .. } => *line,
+        }
+    }
 }
 
 /// Barcode → subject id (`Barcodes.dat`).
@@ -192,55 +220,140 @@ impl Default for MergeOptions {
     }
 }
 
-/// Runs `f` on the fields of every data line.
-fn for_rows<R: BufRead>(
+/// What a lenient reader produced: the value built from the good lines and every bad line's
+/// error, in line order.
+#[derive(Debug)]
+pub struct Lenient<T> {
+    /// Built from the lines that were kept.
+    pub value: T,
+    /// One error per skipped line, in line order.
+    pub skipped: Vec<MrclamError>,
+}
+
+impl<T> Lenient<T> {
+    /// The value when no line was skipped, else the first skipped line's error.
+    fn strict(self) -> Result<T, MrclamError> {
+        match self.skipped.into_iter().next() {
+            None => Ok(self.value),
+            Some(e) => Err(e),
+        }
+    }
+}
+
+/// Parses every data line with `f`, in one pass: a line that does not parse is kept as an
+/// error and the next line is read (so a bad line costs only itself). Returns the rows with
+/// their 1-based line numbers and the errors. A UTF-8 byte-order mark before the first line is
+/// ignored; a line that is not UTF-8 is a bad line.
+fn parse_rows<R: BufRead, T>(
     mut r: R,
     file: FileKind,
     cols: usize,
-    mut f: impl FnMut(usize, &[f64], &[&str]) -> Result<(), LineProblem>,
-) -> Result<(), MrclamError> {
-    let mut buf = String::new();
+    mut f: impl FnMut(&[f64], &[&str]) -> Result<T, LineProblem>,
+) -> Result<Lenient<Vec<(usize, T)>>, MrclamError> {
+    let mut buf = Vec::new();
     let mut line = 0usize;
     let mut nums = Vec::with_capacity(cols);
-    let mut toks: Vec<&str>;
+    let (mut rows, mut errors) = (Vec::new(), Vec::new());
     loop {
         buf.clear();
         line += 1;
-        match r.read_line(&mut buf) {
-            Ok(0) => return Ok(()),
+        match r.read_until(b'\n', &mut buf) {
+            Ok(0) => {
+                return Ok(Lenient {
+                    value: rows,
+                    skipped: errors,
+                })
+            }
             Ok(_) => {}
             Err(source) => return Err(MrclamError::Read { file, line, source }),
         }
-        let text = buf.trim();
-        if text.is_empty() || text.starts_with('#') {
-            continue;
+        let bytes = match (line, buf.strip_prefix(b"\xEF\xBB\xBF")) {
+            (1, Some(rest)) => rest,
+            _ => &buf[..],
+        };
+        let parsed = std::str::from_utf8(bytes)
+            .map_err(|e| LineProblem::NotUtf8 {
+                column: e.valid_up_to() + 1,
+            })
+            .and_then(|text| {
+                let text = text.trim();
+                if text.is_empty() || text.starts_with('#') {
+                    return Ok(None);
+                }
+                let toks: Vec<&str> = text.split_whitespace().collect();
+                fields(&toks, cols, &mut nums)?;
+                f(&nums, &toks).map(Some)
+            });
+        match parsed {
+            Ok(Some(row)) => rows.push((line, row)),
+            Ok(None) => {}
+            Err(problem) => errors.push(MrclamError::Malformed {
+                file,
+                line,
+                problem,
+            }),
         }
-        toks = text.split_whitespace().collect();
-        let bad = |problem| MrclamError::Malformed {
+    }
+}
+
+/// Parses a line's `cols` tokens into finite numbers.
+fn fields(toks: &[&str], cols: usize, nums: &mut Vec<f64>) -> Result<(), LineProblem> {
+    if toks.len() != cols {
+        return Err(LineProblem::FieldCount {
+            expected: cols,
+            found: toks.len(),
+        });
+    }
+    nums.clear();
+    for (k, t) in toks.iter().enumerate() {
+        let v: f64 = t.parse().map_err(|_| LineProblem::NotANumber {
+            column: k + 1,
+            text: (*t).to_string(),
+        })?;
+        if !v.is_finite() {
+            return Err(LineProblem::NonFinite { column: k + 1 });
+        }
+        nums.push(v);
+    }
+    Ok(())
+}
+
+/// Keeps the rows whose time is in order, judging each against the previous kept row and the
+/// next row ([`crate::io::time_order::judge`]: one corrupt time is the one row dropped); the
+/// dropped rows' errors join `errors`, which is then put back in line order. Linear.
+fn in_time_order<T>(
+    rows: Vec<(usize, T)>,
+    time: impl Fn(&T) -> f64,
+    file: FileKind,
+    mut errors: Vec<MrclamError>,
+) -> Lenient<Vec<T>> {
+    let times: Vec<f64> = rows.iter().map(|(_, r)| time(r)).collect();
+    let mut kept = Vec::with_capacity(rows.len());
+    let mut previous = None;
+    let had_errors = !errors.is_empty();
+    for (i, (line, row)) in rows.into_iter().enumerate() {
+        let t = times[i];
+        let problem = match judge(previous, t, times.get(i + 1).copied(), TimePolicy::Monotone) {
+            TimeVerdict::Keep | TimeVerdict::Restart { .. } => {
+                previous = Some(t);
+                kept.push(row);
+                continue;
+            }
+            TimeVerdict::Backwards { previous } => LineProblem::TimeGoesBack { previous, time: t },
+            TimeVerdict::Outlier { next } => LineProblem::TimeOutlier { time: t, next },
+        };
+        errors.push(MrclamError::Malformed {
             file,
             line,
             problem,
-        };
-        if toks.len() != cols {
-            return Err(bad(LineProblem::FieldCount {
-                expected: cols,
-                found: toks.len(),
-            }));
-        }
-        nums.clear();
-        for (k, t) in toks.iter().enumerate() {
-            let v: f64 = t.parse().map_err(|_| {
-                bad(LineProblem::NotANumber {
-                    column: k + 1,
-                    text: (*t).to_string(),
-                })
-            })?;
-            if !v.is_finite() {
-                return Err(bad(LineProblem::NonFinite { column: k + 1 }));
-            }
-            nums.push(v);
-        }
-        f(line, &nums, &toks).map_err(bad)?;
+        });
+    }
+    if had_errors {
+        errors.sort_by_key(MrclamError::line);
+    }
+    Lenient {
+        value: kept,
+        skipped: errors,
     }
 }
 
@@ -252,103 +365,162 @@ fn id(toks: &[&str], k: usize) -> Result<u32, LineProblem> {
     })
 }
 
-fn monotone(prev: &mut f64, t: f64) -> Result<(), LineProblem> {
-    if t < *prev {
-        return Err(LineProblem::TimeGoesBack {
-            previous: *prev,
-            time: t,
-        });
-    }
-    *prev = t;
-    Ok(())
-}
-
-/// Reads `Barcodes.dat` (`subject barcode`).
-pub fn read_barcodes<R: BufRead>(r: R) -> Result<Barcodes, MrclamError> {
+/// Reads `Barcodes.dat` (`subject barcode`), skipping bad lines.
+///
+/// # Errors
+/// A read error of `r`.
+pub fn read_barcodes_lenient<R: BufRead>(r: R) -> Result<Lenient<Barcodes>, MrclamError> {
+    let Lenient {
+        value: rows,
+        skipped,
+    } = parse_rows(r, FileKind::Barcodes, 2, |_, t| Ok((id(t, 0)?, id(t, 1)?)))?;
     let mut b = Barcodes::default();
-    for_rows(r, FileKind::Barcodes, 2, |_, _, t| {
-        let subject = id(t, 0)?;
-        b.subject_of.insert(id(t, 1)?, subject);
-        Ok(())
-    })?;
-    Ok(b)
+    for (_, (subject, barcode)) in rows {
+        b.subject_of.insert(barcode, subject);
+    }
+    Ok(Lenient { value: b, skipped })
 }
 
-/// Reads `Landmark_Groundtruth.dat` (`subject x y x_std y_std`).
-pub fn read_landmarks<R: BufRead>(r: R) -> Result<Vec<LandmarkTruth>, MrclamError> {
-    let mut out = Vec::new();
-    for_rows(r, FileKind::LandmarkGroundtruth, 5, |_, n, t| {
-        out.push(LandmarkTruth {
+/// Reads `Barcodes.dat`; the first bad line is an error.
+///
+/// # Errors
+/// A read error or the first malformed line.
+pub fn read_barcodes<R: BufRead>(r: R) -> Result<Barcodes, MrclamError> {
+    read_barcodes_lenient(r)?.strict()
+}
+
+/// Reads `Landmark_Groundtruth.dat` (`subject x y x_std y_std`), skipping bad lines.
+///
+/// # Errors
+/// A read error of `r`.
+pub fn read_landmarks_lenient<R: BufRead>(
+    r: R,
+) -> Result<Lenient<Vec<LandmarkTruth>>, MrclamError> {
+    let Lenient {
+        value: rows,
+        skipped,
+    } = parse_rows(r, FileKind::LandmarkGroundtruth, 5, |n, t| {
+        Ok(LandmarkTruth {
             subject: id(t, 0)?,
             x: n[1],
             y: n[2],
             x_std: n[3],
             y_std: n[4],
-        });
-        Ok(())
+        })
     })?;
-    Ok(out)
+    let value = rows.into_iter().map(|(_, l)| l).collect();
+    Ok(Lenient { value, skipped })
 }
 
-/// Reads `RobotN_Odometry.dat` (`time v ω`); times must not decrease.
-pub fn read_odometry<R: BufRead>(r: R) -> Result<Vec<OdometryRow>, MrclamError> {
-    let mut out = Vec::new();
-    let mut prev = f64::NEG_INFINITY;
-    for_rows(r, FileKind::Odometry, 3, |_, n, _| {
-        monotone(&mut prev, n[0])?;
-        out.push(OdometryRow {
+/// Reads `Landmark_Groundtruth.dat`; the first bad line is an error.
+///
+/// # Errors
+/// A read error or the first malformed line.
+pub fn read_landmarks<R: BufRead>(r: R) -> Result<Vec<LandmarkTruth>, MrclamError> {
+    read_landmarks_lenient(r)?.strict()
+}
+
+/// Reads `RobotN_Odometry.dat` (`time v ω`), skipping bad lines and times out of order.
+///
+/// # Errors
+/// A read error of `r`.
+pub fn read_odometry_lenient<R: BufRead>(r: R) -> Result<Lenient<Vec<OdometryRow>>, MrclamError> {
+    let Lenient {
+        value: rows,
+        skipped: errors,
+    } = parse_rows(r, FileKind::Odometry, 3, |n, _| {
+        Ok(OdometryRow {
             t: n[0],
             v: n[1],
             w: n[2],
-        });
-        Ok(())
+        })
     })?;
-    Ok(out)
+    Ok(in_time_order(rows, |r| r.t, FileKind::Odometry, errors))
 }
 
-/// Reads `RobotN_Measurement.dat` (`time barcode range bearing`), mapping
-/// barcodes through `codes`; unknown barcodes are dropped and counted.
-pub fn read_measurements<R: BufRead>(r: R, codes: &Barcodes) -> Result<Measurements, MrclamError> {
-    let mut m = Measurements::default();
-    let mut prev = f64::NEG_INFINITY;
-    for_rows(r, FileKind::Measurement, 4, |_, n, t| {
-        monotone(&mut prev, n[0])?;
+/// Reads `RobotN_Odometry.dat`; times must not decrease; the first bad line is an error.
+///
+/// # Errors
+/// A read error or the first malformed line.
+pub fn read_odometry<R: BufRead>(r: R) -> Result<Vec<OdometryRow>, MrclamError> {
+    read_odometry_lenient(r)?.strict()
+}
+
+/// Reads `RobotN_Measurement.dat` (`time barcode range bearing`), mapping barcodes through
+/// `codes` (unknown barcodes are dropped and counted), skipping bad lines and times out of
+/// order.
+///
+/// # Errors
+/// A read error of `r`.
+pub fn read_measurements_lenient<R: BufRead>(
+    r: R,
+    codes: &Barcodes,
+) -> Result<Lenient<Measurements>, MrclamError> {
+    let Lenient {
+        value: rows,
+        skipped: errors,
+    } = parse_rows(r, FileKind::Measurement, 4, |n, t| {
         let barcode = id(t, 1)?;
         if n[2] < 0.0 {
             return Err(LineProblem::NegativeRange);
         }
+        Ok((barcode, n[0], n[2], n[3]))
+    })?;
+    let timed = in_time_order(rows, |r| r.1, FileKind::Measurement, errors);
+    let mut m = Measurements::default();
+    for (barcode, t, range, bearing) in timed.value {
         match codes.subject_of.get(&barcode) {
             Some(&subject) => m.rows.push(MeasurementRow {
-                t: n[0],
+                t,
                 subject,
-                range: n[2],
-                bearing: n[3],
+                range,
+                bearing,
             }),
             None => {
                 m.misread += 1;
                 *m.misread_barcodes.entry(barcode).or_insert(0) += 1;
             }
         }
-        Ok(())
-    })?;
-    Ok(m)
+    }
+    Ok(Lenient {
+        value: m,
+        skipped: timed.skipped,
+    })
 }
 
-/// Reads `RobotN_Groundtruth.dat` (`time x y θ`); times must not decrease.
-pub fn read_groundtruth<R: BufRead>(r: R) -> Result<Vec<TruthRow>, MrclamError> {
-    let mut out = Vec::new();
-    let mut prev = f64::NEG_INFINITY;
-    for_rows(r, FileKind::Groundtruth, 4, |_, n, _| {
-        monotone(&mut prev, n[0])?;
-        out.push(TruthRow {
+/// Reads `RobotN_Measurement.dat`; the first bad line is an error.
+///
+/// # Errors
+/// A read error or the first malformed line.
+pub fn read_measurements<R: BufRead>(r: R, codes: &Barcodes) -> Result<Measurements, MrclamError> {
+    read_measurements_lenient(r, codes)?.strict()
+}
+
+/// Reads `RobotN_Groundtruth.dat` (`time x y θ`), skipping bad lines and times out of order.
+///
+/// # Errors
+/// A read error of `r`.
+pub fn read_groundtruth_lenient<R: BufRead>(r: R) -> Result<Lenient<Vec<TruthRow>>, MrclamError> {
+    let Lenient {
+        value: rows,
+        skipped: errors,
+    } = parse_rows(r, FileKind::Groundtruth, 4, |n, _| {
+        Ok(TruthRow {
             t: n[0],
             x: n[1],
             y: n[2],
             theta: n[3],
-        });
-        Ok(())
+        })
     })?;
-    Ok(out)
+    Ok(in_time_order(rows, |r| r.t, FileKind::Groundtruth, errors))
+}
+
+/// Reads `RobotN_Groundtruth.dat`; times must not decrease; the first bad line is an error.
+///
+/// # Errors
+/// A read error or the first malformed line.
+pub fn read_groundtruth<R: BufRead>(r: R) -> Result<Vec<TruthRow>, MrclamError> {
+    read_groundtruth_lenient(r)?.strict()
 }
 
 /// Integrates unicycle motion (`v`, `ω` held for `dt`) onto a pose expressed

@@ -1,12 +1,12 @@
 //! Opens an MRCLAM dataset directory: the one place that reads MRCLAM files from disk. Parsing
 //! stays in [`crate::io::mrclam`] (whose readers do no I/O); this module names the files
 //! (`Barcodes.dat`, `Landmark_Groundtruth.dat`, `RobotN_{Odometry,Measurement,Groundtruth}.dat`),
-//! reads them leniently ([`crate::io::mrclam_stream::read_lenient`]: a malformed line is skipped
-//! and returned with its path, never dropped silently) and merges each robot's files into
+//! reads them leniently (the `*_lenient` readers of [`crate::io::mrclam`], one pass: a malformed
+//! line or an out-of-place time is skipped and returned with its path, never dropped silently) and merges each robot's files into
 //! [`MetricFrame`]s. The CLI (`extract`, `grid`, `compare`, `fuse`), the examples and the
 //! real-data tests all load MRCLAM through [`load`].
 //!
-//! May depend on: `io::mrclam`, `io::mrclam_stream`.
+//! May depend on: `io::mrclam`.
 //!
 //! # Complexity
 //!
@@ -27,8 +27,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::mrclam::{self, Barcodes, MergeOptions, MrclamError};
-use super::mrclam_stream::read_lenient;
+use super::mrclam::{self, Barcodes, Lenient, MergeOptions, MrclamError};
 use crate::grid::LandmarkTruth;
 use crate::localize::{MetricFrame, TruthRow};
 use std::collections::BTreeMap;
@@ -104,7 +103,7 @@ pub enum DatasetError {
         #[source]
         source: std::io::Error,
     },
-    /// A file could not be parsed even leniently (a read error, or too many malformed lines).
+    /// A file could not be read to its end (a read error).
     #[error("{}: {source}", path.display())]
     Unreadable {
         /// The file.
@@ -138,11 +137,11 @@ pub fn load(dir: &Path, robots: &[u32]) -> Result<Dataset, DatasetError> {
     }
     let mut skipped = Vec::new();
     let barcodes = read(dir, "Barcodes.dat", &mut skipped, |b| {
-        mrclam::read_barcodes(b)
+        mrclam::read_barcodes_lenient(b)
     })?;
     let landmarks = if dir.join(LANDMARKS).exists() {
         Some(read(dir, LANDMARKS, &mut skipped, |b| {
-            mrclam::read_landmarks(b)
+            mrclam::read_landmarks_lenient(b)
         })?)
     } else {
         None
@@ -153,19 +152,19 @@ pub fn load(dir: &Path, robots: &[u32]) -> Result<Dataset, DatasetError> {
             dir,
             &format!("Robot{robot}_Odometry.dat"),
             &mut skipped,
-            |b| mrclam::read_odometry(b),
+            |b| mrclam::read_odometry_lenient(b),
         )?;
         let meas = read(
             dir,
             &format!("Robot{robot}_Measurement.dat"),
             &mut skipped,
-            |b| mrclam::read_measurements(b, &barcodes),
+            |b| mrclam::read_measurements_lenient(b, &barcodes),
         )?;
         let truth = read(
             dir,
             &format!("Robot{robot}_Groundtruth.dat"),
             &mut skipped,
-            |b| mrclam::read_groundtruth(b),
+            |b| mrclam::read_groundtruth_lenient(b),
         )?;
         logs.push(RobotLog {
             robot,
@@ -190,23 +189,23 @@ fn read<T>(
     dir: &Path,
     name: &str,
     skipped: &mut Vec<SkippedLine>,
-    parse: impl FnMut(&[u8]) -> Result<T, MrclamError>,
+    parse: impl FnOnce(&[u8]) -> Result<Lenient<T>, MrclamError>,
 ) -> Result<T, DatasetError> {
     let path = dir.join(name);
     let bytes = std::fs::read(&path).map_err(|source| DatasetError::Open {
         path: path.clone(),
         source,
     })?;
-    // Bytes that are not UTF-8 become `�`, which no field parses as: that line alone is
-    // skipped and reported like any malformed line, rather than the whole file failing.
-    let text = String::from_utf8_lossy(&bytes);
-    match read_lenient(&text, parse) {
-        Ok((v, errors)) => {
-            skipped.extend(errors.into_iter().map(|error| SkippedLine {
+    match parse(&bytes) {
+        Ok(Lenient {
+            value,
+            skipped: bad,
+        }) => {
+            skipped.extend(bad.into_iter().map(|error| SkippedLine {
                 path: path.clone(),
                 error,
             }));
-            Ok(v)
+            Ok(value)
         }
         Err(source) => Err(DatasetError::Unreadable { path, source }),
     }

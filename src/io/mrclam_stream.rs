@@ -2,8 +2,7 @@
 //!
 //! `lplace extract --from mrclam` turns one robot's files into the same JSON-lines stream of
 //! [`FrameRecord`]s as every other extractor, so that the metric layer (`lplace grid`) and the
-//! place engine read one format. This module holds both directions of that conversion and the
-//! lenient reading that lets a malformed line cost only itself:
+//! place engine read one format. This module holds both directions of that conversion:
 //!
 //! * [`to_record`]: a [`MetricFrame`] becomes a record with the odometry increment (metres,
 //!   degrees), one `landmark_range` and one `landmark_bearing` percept per sighting (the
@@ -11,9 +10,6 @@
 //!   reliability, [`reliability`]) and the Vicon truth pose (and the map place containing it).
 //! * [`RecordReader`]: records become [`MetricFrame`]s again, subjects looked up by name; a range
 //!   and a bearing of the same subject in one record form one sighting.
-//! * [`read_lenient`]: runs one of the `io::mrclam` readers over a file's text, and when a line
-//!   is malformed, records the error, comments the line out and reads again — so every good
-//!   line is kept and every bad one is reported with its own line number.
 //!
 //! Like the rest of `io`, nothing here opens a file.
 //!
@@ -39,7 +35,6 @@
 //! assert!((g.observations[0].bearing - 0.1).abs() < 1e-9);
 //! ```
 
-use super::mrclam::MrclamError;
 use super::record::{FrameRecord, Odometry, PerceptRecord, Truth, FORMAT_VERSION};
 use crate::core::angle::wrap_180;
 use crate::core::Pose2;
@@ -51,10 +46,6 @@ pub const RANGE: &str = "landmark_range";
 /// Percept name of a bearing reading (argument: the subject's name; value: degrees, robot
 /// frame, counter-clockwise, in (−180, 180]).
 pub const BEARING: &str = "landmark_bearing";
-
-/// Most malformed lines [`read_lenient`] skips in one file before giving up: each skip re-reads
-/// the file, and a file that bad is not worth converting.
-pub const MAX_SKIPPED: usize = 1000;
 
 /// Reliability of a camera sighting at `range` metres, used as the percept's degree.
 ///
@@ -261,34 +252,4 @@ pub struct Reading<'a> {
     pub value: Option<f64>,
     /// Reliability.
     pub degree: f64,
-}
-
-/// Runs `read` over `text`, skipping malformed lines (see the module docs). Returns what `read`
-/// produced from the good lines and the errors of the bad ones, in line order.
-///
-/// # Errors
-/// A read error (not a malformed line), or more than [`MAX_SKIPPED`] malformed lines: the error
-/// that stopped it.
-pub fn read_lenient<T>(
-    text: &str,
-    mut read: impl FnMut(&[u8]) -> Result<T, MrclamError>,
-) -> Result<(T, Vec<MrclamError>), MrclamError> {
-    let mut lines: Vec<&str> = text.split('\n').collect();
-    let mut skipped = Vec::new();
-    let mut joined = std::borrow::Cow::Borrowed(text);
-    loop {
-        match read(joined.as_bytes()) {
-            Ok(v) => return Ok((v, skipped)),
-            Err(e @ MrclamError::Malformed { line, .. }) => {
-                if skipped.len() >= MAX_SKIPPED || line == 0 || line > lines.len() {
-                    return Err(e);
-                }
-                // A comment keeps the line numbers of everything after it.
-                lines[line - 1] = "#";
-                skipped.push(e);
-                joined = std::borrow::Cow::Owned(lines.join("\n"));
-            }
-            Err(e) => return Err(e),
-        }
-    }
 }

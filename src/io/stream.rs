@@ -42,6 +42,8 @@ use crate::engine::{Frame, PerceptInstance, PerceptSlot, PerceptTable};
 use crate::io::csv::CsvLayout;
 use crate::io::fast_record;
 use crate::io::record::{Odometry, FORMAT_VERSION};
+pub use crate::io::time_order::TimePolicy;
+use crate::io::time_order::{judge, TimeVerdict};
 use crate::map::Map;
 use serde::de::{self, DeserializeSeed, IgnoredAny, MapAccess, SeqAccess, Visitor};
 use serde::Deserialize;
@@ -200,17 +202,52 @@ pub struct FrameMeta {
     /// The region known from outside (`"region": "R0"`), as an index into the schema's region
     /// names.
     pub region: Option<u32>,
+    /// Set when this record restarts the clock ([`TimePolicy::Restart`]): the previous
+    /// accepted time, for the note a reader of concatenated logs reports.
+    pub restart: Option<f64>,
+}
+
+impl FrameMeta {
+    /// The note to report when this record restarts the clock.
+    pub fn restart_note(&self) -> Option<TimeRestart> {
+        Some(TimeRestart {
+            line: self.line,
+            t: self.t?,
+            previous: self.restart?,
+        })
+    }
+}
+
+/// A record where the clock starts again ([`TimePolicy::Restart`]): accepted, and reported.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimeRestart {
+    /// 1-based line number.
+    pub line: u64,
+    /// The record's time.
+    pub t: f64,
+    /// The previous accepted time.
+    pub previous: f64,
+}
+
+impl fmt::Display for TimeRestart {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}: note: time starts again at t = {} after t = {} (--time restart)",
+            self.line, self.t, self.previous
+        )
+    }
 }
 
 /// Why a record was rejected.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum Rejection {
     /// Not a record of the right shape (JSON syntax, wrong types, missing fields, CSV row width).
-    #[error("malformed record (column {column}): {message}")]
+    #[error("column {column}: {message}")]
     Malformed {
         /// 1-based column (byte) where the problem was found.
         column: usize,
-        /// What the parser said.
+        /// What is wrong, in this program's words (no position: that is `column`).
         message: String,
     },
     /// Longer than [`MAX_LINE`].
@@ -281,6 +318,18 @@ pub enum Rejection {
         /// The previous accepted record's time.
         previous: f64,
     },
+    /// A time later than the next record's, which itself follows the previous accepted time:
+    /// this one time is out of place (a corrupt timestamp), judged by both neighbours
+    /// ([`crate::io::time_order`]).
+    #[error(
+        "time t = {t} is out of place: the next record's t = {next} follows the records before"
+    )]
+    TimeOutlier {
+        /// This record's time.
+        t: f64,
+        /// The next record's time.
+        next: f64,
+    },
     /// A truth place the map does not have.
     #[error("unknown truth place `{name}`")]
     UnknownTruthPlace {
@@ -293,14 +342,17 @@ pub enum Rejection {
         /// The name written.
         name: String,
     },
-    /// A CSV header column that names nothing known (its cells are ignored).
-    #[error("CSV column `{column}`: {reason}")]
-    CsvColumn {
-        /// The header cell.
-        column: String,
-        /// What is wrong with it.
-        reason: &'static str,
+    /// Problems of the CSV header, each naming its column. Unknown columns are ignored (their
+    /// cells unread); a repeated column, or a first line that names no column at all (a missing
+    /// header), leaves the stream unreadable ([`Rejection::NoCsvHeader`] on every row).
+    #[error("CSV header: {}", crate::io::csv::HeaderProblem::list(problems))]
+    CsvHeader {
+        /// What is wrong, column by column.
+        problems: Vec<crate::io::csv::HeaderProblem>,
     },
+    /// A CSV row after a header that could not be used.
+    #[error("not read: the CSV header on line 1 is unusable")]
+    NoCsvHeader,
 }
 
 impl Rejection {
@@ -317,22 +369,37 @@ impl Rejection {
             Rejection::UnknownKey { .. } => "unknown_key",
             Rejection::DuplicateKey { .. } => "duplicate_key",
             Rejection::TimeBackwards { .. } => "time_backwards",
+            Rejection::TimeOutlier { .. } => "time_outlier",
             Rejection::UnknownTruthPlace { .. } => "unknown_truth_place",
             Rejection::UnknownRegion { .. } => "unknown_region",
-            Rejection::CsvColumn { .. } => "csv_column",
+            Rejection::CsvHeader { .. } => "csv_header",
+            Rejection::NoCsvHeader => "no_csv_header",
         }
     }
 }
 
-/// A rejected record: its 1-based line number and why.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{line}: {reason}")]
+/// A rejected record: its 1-based line number and why. Displayed as `LINE: reason`, or
+/// `LINE:COLUMN: what` when the problem has a column (one position, as editors read it).
+#[derive(Debug, Clone, PartialEq)]
 pub struct LineError {
     /// 1-based line number.
     pub line: u64,
     /// Why it was rejected.
     pub reason: Rejection,
 }
+
+impl fmt::Display for LineError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.reason {
+            Rejection::Malformed { column, message } => {
+                write!(f, "{}:{column}: {message}", self.line)
+            }
+            reason => write!(f, "{}: {reason}", self.line),
+        }
+    }
+}
+
+impl std::error::Error for LineError {}
 
 /// What [`StreamReader::next_frame`] produced.
 #[derive(Debug, Clone, PartialEq)]
@@ -356,8 +423,8 @@ pub(crate) struct Scratch {
     /// `seen[slot] == stamp` when the slot was set in the current record.
     seen: Vec<u32>,
     stamp: u32,
-    /// Byte ranges of the cells of a CSV row.
-    pub(crate) fields: Vec<(usize, usize)>,
+    /// The cells of a CSV row.
+    pub(crate) cells: crate::io::csv::Cells,
     /// The slots set in the current record, in the record's order (a frame is dense and keeps
     /// no order; a consumer pairing readings in the order they were written needs it).
     order: Vec<PerceptSlot>,
@@ -457,8 +524,9 @@ pub(crate) fn put_percept<S: AsRef<str>>(
     frame.set(slot, degree, value);
 }
 
-/// Checks the time and odometry of a parsed record.
-pub(crate) fn check_meta(meta: &FrameMeta, last_t: Option<f64>) -> Option<Rejection> {
+/// Checks that the time, odometry, heading and truth pose of a parsed record are finite (their
+/// order in time is judged by the reader, which sees the next record too).
+pub(crate) fn check_meta(meta: &FrameMeta) -> Option<Rejection> {
     let finite = |field: &str, v: f64| -> Option<Rejection> {
         if v.is_nan() {
             Some(Rejection::Nan {
@@ -476,11 +544,6 @@ pub(crate) fn check_meta(meta: &FrameMeta, last_t: Option<f64>) -> Option<Reject
     if let Some(t) = meta.t {
         if let Some(r) = finite("t", t) {
             return Some(r);
-        }
-        if let Some(prev) = last_t {
-            if t < prev {
-                return Some(Rejection::TimeBackwards { t, previous: prev });
-            }
         }
     }
     let o = meta.odometry;
@@ -517,6 +580,40 @@ pub struct StreamReader<R> {
     line: u64,
     bytes: u64,
     parser: LineParser,
+    /// How a time earlier than the previous one is read.
+    time: TimePolicy,
+    /// The time of the last record handed out.
+    last_t: Option<f64>,
+    /// A timed record waiting for the next record's time before it is judged.
+    held: Held,
+    /// The percept order of the last frame handed out.
+    out_order: Vec<PerceptSlot>,
+    /// Records rejected while a record before them was held: reported after it, so that
+    /// everything comes out in stream order.
+    deferred: std::collections::VecDeque<LineError>,
+}
+
+/// Most rejections deferred behind a held record; past it the held record is judged without
+/// its successor, so that a stream of nothing but bad lines keeps memory flat.
+const MAX_DEFERRED: usize = 256;
+
+/// The record held back by one (see [`StreamReader::next_frame`]).
+#[derive(Debug)]
+struct Held {
+    frame: Frame,
+    meta: FrameMeta,
+    order: Vec<PerceptSlot>,
+    state: HeldState,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum HeldState {
+    /// Nothing held.
+    Empty,
+    /// A timed record, to be judged when the next record's time is known.
+    Judging,
+    /// A record without a time (nothing to judge), to be handed out next.
+    Ready,
 }
 
 /// Everything but the I/O: turns one line into a frame, a rejection, or nothing (blank lines,
@@ -529,7 +626,6 @@ struct LineParser {
     csv: Option<CsvLayout>,
     /// CSV header problems still to be reported, in column order (reversed for `pop`).
     pending: Vec<LineError>,
-    last_t: Option<f64>,
     scratch: Scratch,
     fast: bool,
 }
@@ -563,21 +659,37 @@ fn find_newline(b: &[u8]) -> Option<usize> {
 impl<R: BufRead> StreamReader<R> {
     /// A reader of `format` over `input`, resolving names with `schema`.
     pub fn new(input: R, schema: Schema, format: StreamFormat) -> Self {
+        let slots = schema.slots;
         StreamReader {
             input,
             buf: Vec::with_capacity(1024),
             line: 0,
             bytes: 0,
+            time: TimePolicy::Monotone,
+            last_t: None,
+            held: Held {
+                frame: Frame::new(slots),
+                meta: FrameMeta::default(),
+                order: Vec::new(),
+                state: HeldState::Empty,
+            },
+            out_order: Vec::new(),
+            deferred: std::collections::VecDeque::new(),
             parser: LineParser {
                 schema,
                 format,
                 csv: None,
                 pending: Vec::new(),
-                last_t: None,
                 scratch: Scratch::default(),
                 fast: true,
             },
         }
+    }
+
+    /// The same reader reading times by `policy` ([`TimePolicy::Monotone`] by default).
+    pub fn with_time_policy(mut self, policy: TimePolicy) -> Self {
+        self.time = policy;
+        self
     }
 
     /// Turns the JSON fast path on (the default) or off. Off, every JSON line goes through the
@@ -596,7 +708,7 @@ impl<R: BufRead> StreamReader<R> {
     /// dense and does not keep that order). Meaningful right after [`StreamReader::next_frame`]
     /// returned [`ReadOutcome::Frame`].
     pub fn percept_order(&self) -> &[PerceptSlot] {
-        &self.parser.scratch.order
+        &self.out_order
     }
 
     /// Bytes consumed so far (for progress bars).
@@ -642,9 +754,112 @@ impl<R: BufRead> StreamReader<R> {
         Ok(Some(true))
     }
 
-    /// Reads the next record into `frame` (cleared first; it must have [`Schema::slots`] slots)
-    /// and `meta`. Blank lines are skipped. I/O errors end the stream with an error.
+    /// Reads the next record into `frame` (it must have [`Schema::slots`] slots) and `meta`.
+    /// Blank lines are skipped. I/O errors end the stream with an error.
+    ///
+    /// A record with a time is handed out only once the next record's time is known (or the
+    /// stream has ended), so that its time is judged against both neighbours
+    /// ([`crate::io::time_order::judge`]): one corrupt time is the one record rejected.
+    /// Records and rejections come out in stream order.
     pub fn next_frame(
+        &mut self,
+        frame: &mut Frame,
+        meta: &mut FrameMeta,
+    ) -> std::io::Result<ReadOutcome> {
+        loop {
+            if let Some(e) = self.deferred.front() {
+                if self.held.state == HeldState::Empty || e.line < self.held.meta.line {
+                    if let Some(e) = self.deferred.pop_front() {
+                        return Ok(ReadOutcome::Rejected(e));
+                    }
+                }
+            }
+            if self.held.state == HeldState::Ready {
+                self.held.state = HeldState::Empty;
+                self.hand_out(frame, meta);
+                return Ok(ReadOutcome::Frame);
+            }
+            let next = match self.next_parsed(frame, meta)? {
+                ReadOutcome::Rejected(e) if self.held.state == HeldState::Judging => {
+                    self.deferred.push_back(e);
+                    if self.deferred.len() < MAX_DEFERRED {
+                        continue;
+                    }
+                    // Too many to hold back: judge the held record without its successor.
+                    let verdict = self.judge_held(None);
+                    self.hand_out(frame, meta);
+                    self.held.state = HeldState::Empty;
+                    return Ok(outcome(verdict, meta.line));
+                }
+                ReadOutcome::Rejected(e) => return Ok(ReadOutcome::Rejected(e)),
+                ReadOutcome::End if self.held.state == HeldState::Judging => None,
+                ReadOutcome::End => return Ok(ReadOutcome::End),
+                ReadOutcome::Frame => Some(meta.t),
+            };
+            if self.held.state == HeldState::Empty {
+                match next {
+                    Some(Some(_)) => {
+                        self.hold(frame, meta);
+                        continue;
+                    }
+                    _ => {
+                        std::mem::swap(&mut self.out_order, &mut self.parser.scratch.order);
+                        return Ok(ReadOutcome::Frame);
+                    }
+                }
+            }
+            // The held record is judged with the next one's time (`None`: no evidence).
+            let verdict = self.judge_held(next.flatten());
+            self.hand_out(frame, meta);
+            self.held.state = HeldState::Empty;
+            if let Some(t) = next {
+                // The record just read takes the held place.
+                std::mem::swap(&mut self.held.order, &mut self.parser.scratch.order);
+                self.held.state = match t {
+                    Some(_) => HeldState::Judging,
+                    None => HeldState::Ready,
+                };
+            }
+            return Ok(outcome(verdict, meta.line));
+        }
+    }
+
+    /// Holds the record just read in `frame`/`meta` back until the next record is read.
+    fn hold(&mut self, frame: &mut Frame, meta: &mut FrameMeta) {
+        std::mem::swap(&mut self.held.frame, frame);
+        std::mem::swap(&mut self.held.meta, meta);
+        std::mem::swap(&mut self.held.order, &mut self.parser.scratch.order);
+        self.held.state = HeldState::Judging;
+    }
+
+    /// Swaps the held record into `frame`/`meta` (and the record there into the held place).
+    fn hand_out(&mut self, frame: &mut Frame, meta: &mut FrameMeta) {
+        std::mem::swap(&mut self.held.frame, frame);
+        std::mem::swap(&mut self.held.meta, meta);
+        std::mem::swap(&mut self.held.order, &mut self.out_order);
+    }
+
+    /// Judges the held record's time given the next record's; `Some` rejects it.
+    fn judge_held(&mut self, next: Option<f64>) -> Option<Rejection> {
+        let meta = &mut self.held.meta;
+        let t = meta.t?;
+        match judge(self.last_t, t, next, self.time) {
+            TimeVerdict::Keep => {
+                self.last_t = Some(t);
+                None
+            }
+            TimeVerdict::Restart { previous } => {
+                meta.restart = Some(previous);
+                self.last_t = Some(t);
+                None
+            }
+            TimeVerdict::Backwards { previous } => Some(Rejection::TimeBackwards { t, previous }),
+            TimeVerdict::Outlier { next } => Some(Rejection::TimeOutlier { t, next }),
+        }
+    }
+
+    /// Reads and parses the next record, without judging its time.
+    fn next_parsed(
         &mut self,
         frame: &mut Frame,
         meta: &mut FrameMeta,
@@ -685,6 +900,14 @@ impl<R: BufRead> StreamReader<R> {
                 return Ok(outcome);
             }
         }
+    }
+}
+
+/// A frame, or the rejection of the record on `line`.
+fn outcome(rejection: Option<Rejection>, line: u64) -> ReadOutcome {
+    match rejection {
+        None => ReadOutcome::Frame,
+        Some(reason) => ReadOutcome::Rejected(LineError { line, reason }),
     }
 }
 
@@ -884,6 +1107,11 @@ impl LineParser {
         frame: &mut Frame,
         meta: &mut FrameMeta,
     ) -> Option<ReadOutcome> {
+        // A UTF-8 byte-order mark (as some editors save) is not part of the first record.
+        let text = match (line, text.strip_prefix(b"\xEF\xBB\xBF")) {
+            (1, Some(rest)) => rest,
+            _ => text,
+        };
         if text.iter().all(u8::is_ascii_whitespace) {
             return None;
         }
@@ -912,25 +1140,20 @@ impl LineParser {
                 problem = self.parse_serde(text, frame, meta);
             }
         }
-        let problem = problem.or_else(|| check_meta(meta, self.last_t));
+        let problem = problem.or_else(|| check_meta(meta));
         Some(match problem {
             Some(reason) => ReadOutcome::Rejected(LineError { line, reason }),
-            None => {
-                if meta.t.is_some() {
-                    self.last_t = meta.t;
-                }
-                ReadOutcome::Frame
-            }
+            None => ReadOutcome::Frame,
         })
     }
 
-    /// Reads the CSV header on `line`, queueing its problems in `pending`.
+    /// Reads the CSV header on `line`; its problems, if any, become one rejection of that line
+    /// (so that every line yields at most one outcome).
     fn header(&mut self, text: &[u8], line: u64) {
-        let (layout, problems) = CsvLayout::from_header(text, &self.schema);
+        let (layout, problem) = CsvLayout::from_header(text, &self.schema, &mut self.scratch);
         self.csv = Some(layout);
-        self.pending = problems
+        self.pending = problem
             .into_iter()
-            .rev()
             .map(|reason| LineError { line, reason })
             .collect();
     }
@@ -967,10 +1190,7 @@ impl LineParser {
             .deserialize(&mut de)
             .and_then(|()| de.end());
         match parsed {
-            Err(e) => Some(Rejection::Malformed {
-                column: e.column(),
-                message: e.to_string(),
-            }),
+            Err(e) => Some(malformed(&e)),
             Ok(()) => match ctx.version.filter(|&v| v != FORMAT_VERSION as u64) {
                 Some(v) => Some(Rejection::Version { found: v }),
                 None => problem,
@@ -1442,4 +1662,61 @@ impl<'de> Visitor<'de> for PlaceSeed<'_> {
     fn visit_str<E>(self, s: &str) -> Result<Self::Value, E> {
         Ok(self.0.place(s).map(Some).ok_or_else(|| s.to_string()))
     }
+}
+
+/// A serde_json error as a rejection in this program's words. serde_json says where with "at
+/// line 1 column C" (a record is one line, so its line is always 1); the column is kept as data
+/// and the reader reports the file's line, so the message itself carries no position.
+fn malformed(e: &serde_json::Error) -> Rejection {
+    let text = e.to_string();
+    let what = text
+        .rsplit_once(" at line ")
+        .map_or(text.as_str(), |(w, _)| w);
+    let message = match e.classify() {
+        serde_json::error::Category::Eof => {
+            "the record ends before its closing brace, bracket or quote".to_string()
+        }
+        serde_json::error::Category::Syntax => format!("not JSON: {}", syntax_words(what)),
+        serde_json::error::Category::Data => data_words(what),
+        serde_json::error::Category::Io => what.to_string(),
+    };
+    Rejection::Malformed {
+        column: e.column().max(1),
+        message,
+    }
+}
+
+/// Plain words for serde_json's syntax messages.
+fn syntax_words(what: &str) -> &'static str {
+    match what {
+        "expected ident" => "a bare word where a value belongs (text needs quotes; the words JSON knows are true, false and null)",
+        "expected value" => "a value is missing here, or is not a JSON value",
+        "key must be a string" => "an object key must be a quoted string",
+        "trailing characters" => "more text after the record's closing brace",
+        "trailing comma" => "a comma before a closing brace or bracket",
+        "expected `:`" => "a `:` is missing after a key",
+        "expected `,` or `}`" => "a `,` or `}` is missing",
+        "expected `,` or `]`" => "a `,` or `]` is missing",
+        "invalid number" | "number out of range" => "a number JSON cannot represent",
+        _ if what.starts_with("control character") => "a raw control character inside a string",
+        _ if what.contains("escape") || what.contains("surrogate") || what.contains("unicode") => {
+            "a bad escape inside a string"
+        }
+        _ => "unexpected character",
+    }
+}
+
+/// Plain words for serde's shape messages (`invalid type: X, expected Y`, `missing field`).
+fn data_words(what: &str) -> String {
+    if let Some((found, expected)) = what
+        .strip_prefix("invalid type: ")
+        .or_else(|| what.strip_prefix("invalid value: "))
+        .and_then(|r| r.split_once(", expected "))
+    {
+        return format!("expected {expected}, found {found}");
+    }
+    if let Some(field) = what.strip_prefix("missing field ") {
+        return format!("the field {field} is missing");
+    }
+    what.to_string()
 }

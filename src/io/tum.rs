@@ -79,7 +79,7 @@ pub fn read_tum<R: BufRead>(r: R) -> Result<Vec<TumPose>, TumError> {
             line: line_no,
             source,
         })?;
-        let text = text.trim();
+        let text = text.trim_start_matches('\u{feff}').trim();
         if text.is_empty() || text.starts_with('#') {
             continue;
         }

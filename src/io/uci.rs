@@ -279,7 +279,12 @@ impl<R: BufRead> Iterator for UciReader<R> {
                 Ok(0) => self.done = true,
                 Ok(_) => {
                     self.line = line;
-                    let Ok(text) = std::str::from_utf8(&self.buf) else {
+                    // A UTF-8 byte-order mark before the first line is not part of it.
+                    let bytes = match (line, self.buf.strip_prefix(b"\xEF\xBB\xBF")) {
+                        (1, Some(rest)) => rest,
+                        _ => &self.buf[..],
+                    };
+                    let Ok(text) = std::str::from_utf8(bytes) else {
                         return Some(Err(UciError::NotUtf8 { line }));
                     };
                     match parse_line(line, text) {

@@ -320,6 +320,7 @@ pub fn decide_all(run: &mut StreamRun, frames: &[FrameRecord]) -> Vec<Decision> 
                     .region
                     .as_deref()
                     .and_then(|r| schema.region(r.as_bytes())),
+                restart: None,
             };
             run.step(&frame, &meta)
         })

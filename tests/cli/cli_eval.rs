@@ -207,7 +207,7 @@ fn exit_3_and_line_numbers_for_each_bad_input_kind() {
             .args(["--summary", "json"])
             .assert()
             .code(3)
-            .stderr(predicates::str::contains(format!("{path}:2: ")))
+            .stderr(predicates::str::contains(format!("{path}:2:")))
             .stderr(predicates::str::contains(*reason));
         // The good frames are still evaluated.
         let out = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
@@ -348,4 +348,86 @@ fn a_configuration_key_nobody_declared_is_a_bad_input_naming_it() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("typo-extract.ron"), "{err}");
     assert!(err.contains("unknown key `totally_bogus_field`"), "{err}");
+}
+
+/// Issue 16 row 7 on the bundled recording: line 2's time made 1e9 is the one record rejected
+/// (it used to be kept and the 2,498 records after it rejected as "time goes backwards").
+#[test]
+fn a_corrupt_time_on_line_2_costs_one_record() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/office.jsonl"),
+    )
+    .expect("bundled recording");
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    assert!(lines[1].contains(r#""t":0.1,"#));
+    lines[1] = lines[1].replacen(r#""t":0.1,"#, r#""t":1e9,"#, 1);
+    let p = temp("t1e9.jsonl", &(lines.join("\n") + "\n"));
+    let out = lplace()
+        .arg("eval")
+        .arg(&p)
+        .args(["--only-summary", "--summary", "json"])
+        .output()
+        .expect("lplace runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    let reports: Vec<&str> = err.lines().filter(|l| l.contains("t1e9.jsonl:")).collect();
+    assert_eq!(reports.len(), 1, "{err}");
+    assert!(
+        reports[0].contains("t1e9.jsonl:2: time t = 1000000000 is out of place"),
+        "{err}"
+    );
+}
+
+/// Concatenated logs: rejected by default, accepted with `--time restart` (a note per restart).
+#[test]
+fn time_restart_reads_concatenated_logs_with_a_note() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("recordings/office.jsonl"),
+    )
+    .expect("bundled recording");
+    let head: Vec<&str> = text.lines().take(40).collect();
+    let p = temp("concat.jsonl", &(head.repeat(2).join("\n") + "\n"));
+    let run = |extra: &[&str]| {
+        lplace()
+            .arg("eval")
+            .arg(&p)
+            .args(["--only-summary"])
+            .args(extra)
+            .output()
+            .expect("lplace runs")
+    };
+    let strict = run(&[]);
+    assert_eq!(strict.status.code(), Some(3));
+    let out = run(&["--time", "restart"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let notes: Vec<&str> = err
+        .lines()
+        .filter(|l| l.contains("note: time starts again"))
+        .collect();
+    assert_eq!(notes.len(), 1, "{err}");
+    assert!(notes[0].contains("concat.jsonl:41: note"), "{err}");
+}
+
+/// Issue 21 item 6: a malformed JSON line in our words, one position (line:column).
+#[test]
+fn a_malformed_json_line_message() {
+    let p = temp(
+        "malformed.jsonl",
+        "{\"percepts\":[]}\n{x\n{\"t\":tru,\"percepts\":[]}\n{\"percepts\":[]\n{\"percepts\":\"x\"}\n",
+    );
+    let out = lplace()
+        .arg("eval")
+        .arg(&p)
+        .args(["--only-summary", "--summary", "none"])
+        .output()
+        .expect("lplace runs");
+    assert_eq!(out.status.code(), Some(3));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let name = p.display().to_string();
+    let shown: String = err
+        .lines()
+        .map(|l| l.replace(&name, "STREAM") + "\n")
+        .collect();
+    insta::assert_snapshot!("eval_malformed_json", shown);
 }

@@ -205,21 +205,9 @@ fn bad_arguments_and_missing_files_have_their_exit_codes() {
     lplace().arg("grid").assert().code(2);
 }
 
-/// A tiny MRCLAM directory: robot 1 sees landmark 6 (barcode 63) at (2, 0) from the origin.
+/// The shared tiny MRCLAM directory (`tests/support/mrclam.rs`) in this file's scratch space.
 fn mrclam_dir(name: &str, odometry: &str) -> PathBuf {
-    let d = scratch(name);
-    let w = |f: &str, s: &str| std::fs::write(d.join(f), s).unwrap();
-    w("Barcodes.dat", "# Subject # Barcode #\n1 5\n6 63\n");
-    w("Robot1_Odometry.dat", odometry);
-    w(
-        "Robot1_Measurement.dat",
-        "# t barcode range bearing\n10.5 63 2.0 0.0\n10.6 34 1.0 0.0\n11.0 63 2.0 0.0\n",
-    );
-    w(
-        "Robot1_Groundtruth.dat",
-        "10.0 0.0 0.0 0.0\n11.0 0.0 0.0 0.0\n12.0 0.0 0.0 0.0\n",
-    );
-    d
+    crate::support::mrclam::tiny_dir(&scratch(name), odometry)
 }
 
 #[test]

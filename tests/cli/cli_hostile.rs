@@ -85,3 +85,48 @@ fn a_byte_order_mark_is_accepted() {
     let (code, _, err, _) = check("bom.lpl", &[b"\xEF\xBB\xBF".as_slice(), &rules].concat());
     assert_eq!(code, 0, "{err}");
 }
+
+/// Copies MRCLAM's shared files and robot 1's into `dir`, with `edit` applied to robot 1's
+/// odometry text.
+fn mrclam_copy(src: &std::path::Path, dir: &std::path::Path, edit: impl Fn(&str) -> String) {
+    for f in [
+        "Barcodes.dat",
+        "Landmark_Groundtruth.dat",
+        "Robot1_Measurement.dat",
+        "Robot1_Groundtruth.dat",
+    ] {
+        std::fs::copy(src.join(f), dir.join(f)).expect("scratch is writable");
+    }
+    let odo = std::fs::read_to_string(src.join("Robot1_Odometry.dat")).expect("data readable");
+    std::fs::write(dir.join("Robot1_Odometry.dat"), edit(&odo)).expect("scratch is writable");
+}
+
+/// Row 6: one corrupt timestamp (`1248…` made `2248…` on line 100 of robot 1's real odometry)
+/// is the one line rejected; the good lines after it are kept.
+#[test]
+fn one_corrupt_mrclam_timestamp_is_the_one_line_rejected() {
+    let Some(src) = super::support::mrclam_dir() else {
+        return;
+    };
+    let dir = scratch("hostile", "mrclam_time");
+    mrclam_copy(&src, &dir, |odo| {
+        let mut lines: Vec<String> = odo.lines().map(str::to_string).collect();
+        assert!(lines[99].starts_with("1248"), "line 100 is a data line");
+        lines[99].replace_range(0..1, "2");
+        lines.join("\n") + "\n"
+    });
+    let out = lplace()
+        .args(["grid", "--from-dir"])
+        .arg(&dir)
+        .args(["--robot", "1"])
+        .output()
+        .expect("lplace runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    let reported: Vec<&str> = err
+        .lines()
+        .filter(|l| l.contains("Robot1_Odometry.dat:"))
+        .collect();
+    assert_eq!(reported.len(), 1, "{err}");
+    assert!(reported[0].contains("Robot1_Odometry.dat:100:"), "{err}");
+}

@@ -92,7 +92,7 @@ fn read_ahead_hands_over_the_same_records() {
     assert_eq!(one.1, "Ok(())");
     assert_eq!(one.0.len(), 5000);
     assert!(one.0.iter().filter(|r| r.starts_with("rejected")).count() > 600);
-    assert!(one.0.iter().any(|r| r.starts_with("rejected 37: ")));
+    assert!(one.0.iter().any(|r| r.starts_with("rejected 37:")));
     assert_eq!(one, ahead);
 }
 
