@@ -367,13 +367,13 @@ fn explain_atom_shows_the_beacon_signature_as_eq_6() {
     let text = String::from_utf8(out).expect("utf-8");
     assert!(
         text.contains(
-            "beacon_signature() @P2 = min(beacon_angle ~bearing 116.6, beacon_distance ~range 1.12)"
+            "beacon_signature(_, _, t) @P2 = min(beacon_angle ~bearing 116.6, beacon_distance ~range 1.12)"
         ),
         "{text}"
     );
     assert!(
         text.contains(
-            "δ beacon_signature() @P2 = max(δ[beacon_angle ~bearing 116.6], δ[beacon_distance ~range 1.12])"
+            "δ beacon_signature(_, _, t) @P2 = max(δ[beacon_angle ~bearing 116.6], δ[beacon_distance ~range 1.12])"
         ),
         "{text}"
     );
