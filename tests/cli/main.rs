@@ -10,5 +10,6 @@ mod cli_eval;
 mod cli_fuse;
 mod cli_grid;
 mod cli_hostile;
+mod cli_pictures;
 mod cli_report;
 mod cli_simulate;
