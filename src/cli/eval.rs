@@ -227,6 +227,11 @@ struct Session<'a> {
     format: Format,
     /// `--query` sets, resolved once.
     queries: Vec<(String, PlaceSet)>,
+    /// Width of the table's decision column (see [`decision_width`]).
+    decision_width: usize,
+    /// Width of the table's truth column: the longest place name (padded only with `--degrees`,
+    /// whose columns follow it).
+    truth_width: usize,
 }
 
 impl Session<'_> {
@@ -247,11 +252,27 @@ impl Session<'_> {
                 }
                 writeln!(out)
             }
-            Format::Table => writeln!(
-                out,
-                "{:>7} {:>9}  {:<TABLE_DECISION$} {:>6} {:>6}  truth",
-                "line", "t", "decision", "N", "Inc"
-            ),
+            Format::Table => {
+                write!(
+                    out,
+                    "{:>7} {:>9}  {:<dw$} {:>6} {:>6}  ",
+                    "line",
+                    "t",
+                    "decision",
+                    "N",
+                    "Inc",
+                    dw = self.decision_width
+                )?;
+                if self.args.degrees {
+                    write!(out, "{:<tw$}", "truth", tw = self.truth_width)?;
+                    for p in &self.places {
+                        write!(out, "  {:>w$}", format!("π/N:{p}"), w = DEGREE_CELL)?;
+                    }
+                    writeln!(out)
+                } else {
+                    writeln!(out, "truth")
+                }
+            }
             Format::Json | Format::Jsonl => Ok(()),
         }
     }
@@ -280,8 +301,8 @@ impl Session<'_> {
         }
     }
 
-    /// One decision as a JSON line; `--degrees` adds `possibility`/`necessities` arrays in the
-    /// map's place order.
+    /// One decision as a JSON line; `--degrees` adds `possibility`/`necessities` objects keyed
+    /// by place name, in the map's place order.
     fn write_json(
         &self,
         out: &mut impl Write,
@@ -331,17 +352,18 @@ impl Session<'_> {
         }
         if self.args.degrees {
             for (key, v) in [
-                (&b",\"possibility\":["[..], &dist.possibility),
-                (&b",\"necessities\":["[..], &dist.necessity),
+                (&b",\"possibility\":{"[..], &dist.possibility),
+                (&b",\"necessities\":{"[..], &dist.necessity),
             ] {
                 out.write_all(key)?;
-                for (i, x) in v.iter().enumerate() {
-                    if i > 0 {
-                        out.write_all(b",")?;
-                    }
-                    write_degree(out, *x)?;
+                for (k, place) in self.places.iter().enumerate() {
+                    out.write_all(if k == 0 { b"\"" } else { b",\"" })?;
+                    // Place names are identifiers of the map language: nothing to escape.
+                    out.write_all(place.as_bytes())?;
+                    out.write_all(b"\":")?;
+                    write_degree(out, v.get(k).copied().unwrap_or(0.0))?;
                 }
-                out.write_all(b"]")?;
+                out.write_all(b"}")?;
             }
         }
         out.write_all(b"}\n")
@@ -409,22 +431,55 @@ impl Session<'_> {
                 (format!("disoriented: {}", reason_name(&why)), "-".into())
             }
         };
-        writeln!(
+        let truth = self.truth(meta).unwrap_or("-");
+        write!(
             out,
-            "{:>7} {:>9}  {:<TABLE_DECISION$} {:>6} {:>6.3}  {}",
+            "{:>7} {:>9}  {:<dw$} {:>6} {:>6.3}  ",
             meta.line,
             meta.t.map_or("-".to_string(), |t| format!("{t:.3}")),
-            what,
+            clip(&what, self.decision_width),
             nec,
             dist.inconsistency,
-            self.truth(meta).unwrap_or("-")
-        )
+            dw = self.decision_width
+        )?;
+        if !self.args.degrees {
+            return writeln!(out, "{truth}");
+        }
+        write!(out, "{truth:<tw$}", tw = self.truth_width)?;
+        for k in 0..self.places.len() {
+            let pi = dist.possibility.get(k).copied().unwrap_or(0.0);
+            let n = dist.necessity.get(k).copied().unwrap_or(0.0);
+            write!(out, "  {:>w$}", format!("{pi:.2}/{n:.2}"), w = DEGREE_CELL)?;
+        }
+        writeln!(out)
     }
 }
 
-/// Width of the table's decision column: the longest reason (`disoriented: nothing_above_threshold`,
-/// 36 characters) fits, so rows stay aligned; a place name longer than the rest pushes only its row.
-const TABLE_DECISION: usize = 36;
+/// The longest reason, `disoriented: nothing_above_threshold`: every row fits it.
+const REASON_CHARS: usize = 36;
+
+/// The widest the table's decision column grows for long place names; longer ones are clipped
+/// with `…` so that the columns after it stay aligned.
+const MAX_DECISION: usize = 48;
+
+/// Width of a `--degrees` cell in the table (`0.80/0.10`).
+const DEGREE_CELL: usize = 9;
+
+/// Width of the table's decision column: the longest reason or `place NAME` for the longest
+/// place name, whichever is wider, but at most [`MAX_DECISION`].
+fn decision_width(places: &[String]) -> usize {
+    let longest = places.iter().map(|p| p.chars().count()).max().unwrap_or(0);
+    (longest + "place ".len()).clamp(REASON_CHARS, MAX_DECISION)
+}
+
+/// `text` cut to `width` characters, the last one replaced by `…` when it was cut.
+fn clip(text: &str, width: usize) -> std::borrow::Cow<'_, str> {
+    if text.chars().count() <= width {
+        return text.into();
+    }
+    let kept: String = text.chars().take(width.saturating_sub(1)).collect();
+    format!("{kept}…").into()
+}
 
 /// An opened percept stream with its name and form.
 pub(super) struct Source {
@@ -530,7 +585,7 @@ struct Pictures {
 
 impl Pictures {
     fn new(args: &EvalArgs, engine: &Engine, places: &[String], name: &str) -> Pictures {
-        let title = format!("lplace eval {name}");
+        let title = format!("lplace eval {}", file_name(name));
         Pictures {
             plot: args.svg().map(|_| RunPlot::new(places.to_vec(), title)),
             points: args.trajectory_svg().map(|_| Vec::new()),
@@ -563,12 +618,18 @@ impl Pictures {
         }
         if let (Some(path), Some(pts), Some(map)) = (args.trajectory_svg(), &self.points, &self.map)
         {
-            let title = format!("lplace eval {name}: decisions along the true trajectory");
+            let title = format!("{}: decisions along the true trajectory", file_name(name));
             let picture = trajectory::svg(map, pts, 20.0, &title);
             output::write_atomic(path, |w| w.write_all(picture.as_bytes()))?;
         }
         Ok(())
     }
+}
+
+/// The last component of a stream's name, for picture titles: where the stream was stored (often
+/// a scratch folder) says nothing about the run.
+fn file_name(name: &str) -> &str {
+    name.rsplit(['/', '\\']).next().unwrap_or(name)
 }
 
 /// Every file `eval` reads, as inputs no output may overwrite.
@@ -629,11 +690,20 @@ fn run_one(args: &EvalArgs, path: Option<&Path>, out: &mut dyn Write) -> Result<
     let places = run.places().to_vec();
     let mut pictures = Pictures::new(args, run.engine(), &places, &source.name);
     let name = source.name.clone();
+    let decision_width = decision_width(&places);
+    let truth_width = places
+        .iter()
+        .map(|p| p.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max("truth".len());
     let session = Session {
         places,
         args,
         format: args.format.unwrap_or(Format::Jsonl),
         queries,
+        decision_width,
+        truth_width,
     };
     let mut run = run;
     let mut w = std::io::BufWriter::with_capacity(1 << 16, out);

@@ -2,10 +2,16 @@
 //! (`--atom`), or how Π and N of a set of places are computed (`--query`).
 
 use super::args::{ArgError, ExplainArgs};
+use super::wrap::{wrap, WIDTH};
 use super::{load_engine, CliError, EXIT_OK};
 use crate::engine::tape::Op;
 use crate::engine::{CompileOptions, Engine};
 use std::io::Write;
+
+/// Writes `lhs = rhs` wrapped to [`WIDTH`] columns.
+fn line(out: &mut impl Write, lhs: &str, rhs: &str) -> std::io::Result<()> {
+    writeln!(out, "{}", wrap(&format!("{lhs} = "), rhs, WIDTH))
+}
 
 /// Runs `explain`.
 pub fn run(args: &ExplainArgs, out: &mut impl Write) -> Result<u8, CliError> {
@@ -58,42 +64,41 @@ fn explain_places(
     let c = engine.compiled();
     for k in chosen {
         let name = &places[k].name;
-        writeln!(
+        line(
             out,
-            "at_place({name}) = {}",
-            c.tape.render(c.support[k], &c.percepts)
+            &format!("at_place({name})"),
+            &c.tape.render(c.support[k], &c.percepts),
         )?;
         let ex = c.exclusion[k];
         if c.tape.ops.get(ex as usize) != Some(&Op::Const(0.0)) {
-            writeln!(
+            line(
                 out,
-                "!at_place({name}) = {}",
-                c.tape.render(ex, &c.percepts)
+                &format!("!at_place({name})"),
+                &c.tape.render(ex, &c.percepts),
             )?;
         }
         if args.dissimilarity {
-            writeln!(
+            line(
                 out,
-                "  δ at_place({name}) = {}",
-                c.tape.render_dissimilarity(c.support[k], &c.percepts)
+                &format!("  δ at_place({name})"),
+                &c.tape.render_dissimilarity(c.support[k], &c.percepts),
             )?;
         }
     }
     if args.place.is_none() {
         for (r, room) in engine.map().rooms().iter().enumerate() {
-            writeln!(
+            line(
                 out,
-                "in_room({}) = {}",
-                room.name,
-                c.tape.render(c.rooms[r], &c.percepts)
+                &format!("in_room({})", room.name),
+                &c.tape.render(c.rooms[r], &c.percepts),
             )?;
         }
         for (g, (region, _)) in engine.rules().regions.iter().enumerate() {
             if let Some(&reg) = c.regions.get(g) {
-                writeln!(
+                line(
                     out,
-                    "in_region({region}) = {}",
-                    c.tape.render(reg, &c.percepts)
+                    &format!("in_region({region})"),
+                    &c.tape.render(reg, &c.percepts),
                 )?;
             }
         }
@@ -139,12 +144,17 @@ fn explain_atom(
             continue;
         }
         let at = places.get(*ctx).map_or("?", |p| p.name.as_str());
-        writeln!(out, "{atom} @{at} = {}", c.tape.render(*reg, &c.percepts))?;
+        let atom = engine.atom_text(atom);
+        line(
+            out,
+            &format!("{atom} @{at}"),
+            &c.tape.render(*reg, &c.percepts),
+        )?;
         if dissimilarity {
-            writeln!(
+            line(
                 out,
-                "  δ {atom} @{at} = {}",
-                c.tape.render_dissimilarity(*reg, &c.percepts)
+                &format!("  δ {atom} @{at}"),
+                &c.tape.render_dissimilarity(*reg, &c.percepts),
             )?;
         }
     }

@@ -34,6 +34,7 @@ mod report;
 mod simulate;
 mod stream_input;
 pub mod survey;
+mod wrap;
 
 use std::io::Write;
 use std::process::ExitCode;

@@ -171,10 +171,38 @@ impl Outcome {
                     rule: c.rule + 1,
                     context: name(c.context),
                     binding: c.binding.iter().map(|(v, x)| format!("{v}={x}")).collect(),
-                    head: format!("{}{}", if c.negated { "!" } else { "" }, c.head),
+                    head: format!(
+                        "{}{}",
+                        if c.negated { "!" } else { "" },
+                        engine.atom_text(&c.head)
+                    ),
                     degree: deg,
                 })
                 .collect(),
         }
+    }
+}
+
+impl Engine {
+    /// A ground atom with every argument of its predicate's declaration: the ground domain
+    /// values in their positions, `t` for the time and `_` for a value or expectation (a
+    /// [`GroundAtom`](super::compile::GroundAtom) keeps domain values only, so `walls(t)`
+    /// would otherwise print as `walls()`). Built-in atoms have domain arguments only.
+    pub fn atom_text(&self, atom: &super::compile::GroundAtom) -> String {
+        use crate::syntax::ast::ArgRole;
+        let Some(sig) = self.rules().predicates.get(&atom.name) else {
+            return atom.to_string();
+        };
+        let mut domain_args = atom.args.iter();
+        let args: Vec<&str> = sig
+            .roles
+            .iter()
+            .map(|r| match r {
+                ArgRole::Domain(_) => domain_args.next().map_or("?", String::as_str),
+                ArgRole::Time => "t",
+                ArgRole::Value | ArgRole::Expect => "_",
+            })
+            .collect();
+        format!("{}({})", atom.name, args.join(", "))
     }
 }

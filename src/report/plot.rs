@@ -1,6 +1,7 @@
 //! Paper 003's run-time display (Fig. 3) unrolled over time, as a hand-written SVG: one row per
 //! place, a strip of its possibility Π (light) above a strip of its necessity N (dark) along the
-//! frames, a tick where the place was chosen, and a red bar where it was the truth.
+//! frames over a pale red band where it was the truth, and a black bar where it was chosen; a
+//! legend with a swatch per mark above the rows.
 //!
 //! Memory stays flat on any run length: [`RunPlot`] keeps at most [`MAX_COLUMNS`] columns; when
 //! they are full, neighbouring columns are merged pairwise (max of the degrees, the later
@@ -125,11 +126,7 @@ impl RunPlot {
             r##"<rect width="100%" height="100%" fill="white"/><text x="{left}" y="18" font-size="14">{}</text>"##,
             xml_escape(&self.title)
         );
-        let _ = writeln!(
-            s,
-            r##"<text x="{left}" y="32" fill="#555">{} frames, {} per column · light: Π, dark: N · black tick: chosen · red bar: truth</text>"##,
-            self.frames, self.bucket
-        );
+        legend(&mut s, left, 24.0, self.frames, self.bucket);
         for (k, name) in self.places.iter().enumerate() {
             self.place_row(&mut s, &g, k, name, top + row_h * k as f64);
         }
@@ -150,10 +147,23 @@ impl RunPlot {
             y + 3.0,
             row_h - 4.0
         );
+        // The truth first, as a band behind the strips: a run reads as a shaded stretch.
+        for (c, e, is_k) in self.runs(|c| self.truth[c] == k as u32) {
+            if is_k {
+                let _ = writeln!(
+                    s,
+                    r##"<rect x="{:.2}" y="{}" width="{:.2}" height="{}" fill="{TRUTH}" fill-opacity="0.22"/>"##,
+                    left + g.w * c as f64,
+                    y + 3.0,
+                    g.w * (e - c) as f64,
+                    row_h - 4.0
+                );
+            }
+        }
         let n = self.places.len();
         for (values, colour, sy) in [
-            (&self.pos, "#3b7dd8", y + 4.0),
-            (&self.nec, "#0b2a55", y + 14.0),
+            (&self.pos, POSSIBILITY, y + 4.0),
+            (&self.nec, NECESSITY, y + 14.0),
         ] {
             let q = |c: usize| (values[c * n + k].clamp(0.0, 1.0) * 20.0).round() as u32;
             // Runs of equal quantised degree become one rectangle: small files for long runs.
@@ -169,19 +179,15 @@ impl RunPlot {
                 }
             }
         }
-        for (marks, colour, my, mh) in [
-            (&self.truth, "#d62728", y + 2.0, 2.5),
-            (&self.chosen, "#000", y + 24.0, 3.0),
-        ] {
-            for (c, e, is_k) in self.runs(|c| marks[c] == k as u32) {
-                if is_k {
-                    let _ = writeln!(
-                        s,
-                        r##"<rect x="{:.2}" y="{my}" width="{:.2}" height="{mh}" fill="{colour}"/>"##,
-                        left + g.w * c as f64,
-                        g.w * (e - c) as f64
-                    );
-                }
+        for (c, e, is_k) in self.runs(|c| self.chosen[c] == k as u32) {
+            if is_k {
+                let _ = writeln!(
+                    s,
+                    r##"<rect x="{:.2}" y="{}" width="{:.2}" height="3" fill="{CHOSEN}"/>"##,
+                    left + g.w * c as f64,
+                    y + 24.0,
+                    g.w * (e - c) as f64
+                );
             }
         }
     }
@@ -222,6 +228,41 @@ impl RunPlot {
             axis_y + 34.0
         );
     }
+}
+
+/// Colours of the marks, shared by the rows and the legend.
+const POSSIBILITY: &str = "#3b7dd8";
+const NECESSITY: &str = "#0b2a55";
+const CHOSEN: &str = "#000000";
+const TRUTH: &str = "#d62728";
+
+/// The legend line at height `y` (top of the swatches): frames per column, then one swatch per
+/// mark as it is drawn in the rows, each followed by its meaning.
+fn legend(s: &mut String, left: f64, y: f64, frames: u64, bucket: u64) {
+    let _ = write!(
+        s,
+        r##"<g class="legend"><text x="{left}" y="{}" fill="#555">{frames} frames, {bucket} per column</text>"##,
+        y + 9.0
+    );
+    let items: [(&str, f64, f64, &str); 4] = [
+        (POSSIBILITY, 1.0, 10.0, "Π (possibility)"),
+        (NECESSITY, 1.0, 10.0, "N (necessity)"),
+        (CHOSEN, 1.0, 3.0, "chosen"),
+        (TRUTH, 0.22, 10.0, "truth"),
+    ];
+    // Text is about 7 px a character at 12 px: each item takes its swatch and its words.
+    let mut x = left + 190.0;
+    for (colour, opacity, h, label) in items {
+        let _ = write!(
+            s,
+            r##"<rect class="swatch" x="{x:.1}" y="{:.1}" width="16" height="{h}" fill="{colour}" fill-opacity="{opacity}"/><text x="{:.1}" y="{}">{label}</text>"##,
+            y + 10.0 - h,
+            x + 20.0,
+            y + 9.0
+        );
+        x += 20.0 + 7.0 * label.chars().count() as f64 + 16.0;
+    }
+    let _ = writeln!(s, "</g>");
 }
 
 /// Where [`RunPlot::to_svg`] draws: left margin, row height, plot width and column width (px).

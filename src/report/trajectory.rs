@@ -1,7 +1,9 @@
 //! The result of a run drawn over the map: each place's extent (box or disc, labelled), the
 //! paths between place centres, and the corrected trajectory as one dot per frame coloured by
-//! the decision — right (green), wrong (red) or disoriented (grey). Pure: it returns the SVG text
-//! and does no I/O. Depends on `map` only.
+//! the decision — right (green), wrong (red) or disoriented (grey) — under a title with the
+//! counts, with a metre scale bar below. Place labels are moved off each other greedily (places
+//! closer than a label's width would print their names on top of each other). Pure: it returns
+//! the SVG text and does no I/O. Depends on `map` only.
 
 use std::fmt::Write as _;
 
@@ -60,8 +62,9 @@ pub fn svg(map: &Map, points: &[TrajectoryPoint], scale: f64, title: &str) -> St
     let m = 1.0;
     let (x0, y0, x1, y1) = (x0 - m, y0 - m, x1 + m, y1 + m);
     let header = 40.0;
+    let footer = 34.0;
     let w = (x1 - x0) * scale;
-    let h = (y1 - y0) * scale + header;
+    let h = (y1 - y0) * scale + header + footer;
     let c = Canvas {
         x0,
         y1,
@@ -99,17 +102,107 @@ pub fn svg(map: &Map, points: &[TrajectoryPoint], scale: f64, title: &str) -> St
             );
         }
     }
+    let mut placed: Vec<LabelBox> = Vec::new();
     for p in map.places() {
+        let (x, y) = (c.px(p.pose.0), c.py(p.pose.1));
+        let b = place_label(x, y, &p.name, &placed);
         let _ = writeln!(
             s,
-            r##"<text x="{:.1}" y="{:.1}" text-anchor="middle" fill="#08306b">{}</text>"##,
-            c.px(p.pose.0),
-            c.py(p.pose.1),
+            r##"<text class="place-label" x="{:.1}" y="{:.1}" text-anchor="middle" fill="#08306b">{}</text>"##,
+            b.x,
+            b.y,
             escape(&p.name)
         );
+        placed.push(b);
     }
+    scale_bar(&mut s, x1 - x0, scale, h - footer / 2.0);
     s.push_str("</svg>\n");
     s
+}
+
+/// A label's anchor (middle of its baseline, pixels) and its estimated size: labels are 11 px
+/// sans-serif, whose characters average under 7 px.
+#[derive(Debug, Clone, Copy)]
+struct LabelBox {
+    x: f64,
+    y: f64,
+    half_width: f64,
+}
+
+/// Pixels per character and line height assumed for a label.
+const CHAR_PX: f64 = 7.0;
+const LINE_PX: f64 = 12.0;
+
+impl LabelBox {
+    fn overlaps(&self, o: &LabelBox) -> bool {
+        (self.x - o.x).abs() < self.half_width + o.half_width && (self.y - o.y).abs() < LINE_PX
+    }
+}
+
+/// Where the label `name` of a place drawn at `(x, y)` goes: on the centre if that is free, else
+/// the first free spot of a ring around it, else below every label it would hit (greedy: the
+/// places' declaration order decides who keeps the centre).
+fn place_label(x: f64, y: f64, name: &str, placed: &[LabelBox]) -> LabelBox {
+    let half_width = CHAR_PX * name.chars().count() as f64 / 2.0 + 1.0;
+    let at = |dx: f64, dy: f64| LabelBox {
+        x: x + dx,
+        y: y + 4.0 + dy,
+        half_width,
+    };
+    let side = half_width + 4.0;
+    let ring = [
+        (0.0, 0.0),
+        (0.0, -LINE_PX),
+        (0.0, LINE_PX),
+        (side, 0.0),
+        (-side, 0.0),
+        (side, -LINE_PX),
+        (-side, -LINE_PX),
+        (side, LINE_PX),
+        (-side, LINE_PX),
+    ];
+    let free = |b: &LabelBox| !placed.iter().any(|o| o.overlaps(b));
+    if let Some(b) = ring.iter().map(|&(dx, dy)| at(dx, dy)).find(free) {
+        return b;
+    }
+    // Lines below are a line apart and a label is under a line tall, so each placed label
+    // blocks at most two of them: 2n + 1 lines hold a free one.
+    let last = 2 * placed.len() + 2;
+    (2..=last)
+        .map(|k| at(0.0, LINE_PX * k as f64))
+        .find(free)
+        .unwrap_or_else(|| at(0.0, LINE_PX * last as f64))
+}
+
+/// The longest 1, 2 or 5 × 10ⁿ metres not over a fifth of `width_m` (a bar that reads at a
+/// glance and never dominates the picture).
+pub fn scale_bar_metres(width_m: f64) -> f64 {
+    let target = (width_m / 5.0).max(1e-3);
+    let base = 10f64.powf(target.log10().floor());
+    [5.0, 2.0, 1.0]
+        .into_iter()
+        .map(|m| m * base)
+        .find(|l| *l <= target * (1.0 + 1e-9))
+        .unwrap_or(base)
+}
+
+/// A metre scale bar at the bottom left, its baseline at `y` pixels.
+fn scale_bar(s: &mut String, width_m: f64, scale: f64, y: f64) {
+    let metres = scale_bar_metres(width_m);
+    let (x0, x1) = (10.0, 10.0 + metres * scale);
+    let label = if metres >= 1.0 {
+        format!("{metres:.0} m")
+    } else {
+        format!("{metres} m")
+    };
+    let _ = writeln!(
+        s,
+        r##"<g class="scale-bar" stroke="black" stroke-width="2"><line x1="{x0:.1}" y1="{y:.1}" x2="{x1:.1}" y2="{y:.1}"/><line x1="{x0:.1}" y1="{:.1}" x2="{x0:.1}" y2="{y:.1}"/><line x1="{x1:.1}" y1="{:.1}" x2="{x1:.1}" y2="{y:.1}"/></g><text x="{:.1}" y="{:.1}">{label}</text>"##,
+        y - 5.0,
+        y - 5.0,
+        x1 + 6.0,
+        y + 4.0
+    );
 }
 
 /// The smallest box `(x0, y0, x1, y1)` holding every place extent and every finite point;

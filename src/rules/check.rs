@@ -25,6 +25,7 @@ use crate::map::Map;
 use crate::syntax::ast::*;
 use crate::syntax::diagnostic::{Diagnostic, DiagnosticKind, KeySuffix, NeverFiresReason};
 use crate::syntax::span::{Span, Spanned};
+use crate::syntax::suggest::suggest;
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Names that rule files may not declare as domains.
@@ -184,6 +185,18 @@ fn in_unit(x: f64) -> bool {
 impl Checker<'_> {
     fn err(&mut self, kind: DiagnosticKind, span: Span) {
         self.diags.push(Diagnostic::error(kind, span));
+    }
+
+    /// An error about the unknown name `written`, with "did you mean" or the `known` names.
+    fn err_unknown<'k>(
+        &mut self,
+        kind: DiagnosticKind,
+        span: Span,
+        written: &str,
+        known: impl IntoIterator<Item = &'k str>,
+    ) {
+        let d = Diagnostic::error(kind, span).with_suggestion(suggest(written, known));
+        self.diags.push(d);
     }
 
     fn dup(&mut self, what: &'static str, name: &Spanned<String>, first: Span) {
@@ -376,11 +389,16 @@ impl Checker<'_> {
             if let Some(s) = similarity {
                 if !self.set.similarities.contains_key(&s.node) && !sim_spans.contains_key(&s.node)
                 {
-                    self.err(
-                        DiagnosticKind::UnknownSimilarity {
-                            name: s.node.clone(),
-                        },
-                        s.span,
+                    let known = self.set.similarities.keys().chain(sim_spans.keys());
+                    let known: Vec<&str> = known.map(String::as_str).collect();
+                    self.diags.push(
+                        Diagnostic::error(
+                            DiagnosticKind::UnknownSimilarity {
+                                name: s.node.clone(),
+                            },
+                            s.span,
+                        )
+                        .with_suggestion(suggest(&s.node, known)),
                     );
                 }
             } else if is_percept && roles.iter().any(|r| r.node == ArgRole::Expect) {
@@ -717,12 +735,16 @@ impl Checker<'_> {
                     None => {
                         let known = self.set.domains.values().any(|vs| vs.contains(&val.node));
                         if !known {
-                            self.err(
+                            let all: BTreeSet<String> =
+                                self.set.domains.values().flatten().cloned().collect();
+                            self.err_unknown(
                                 DiagnosticKind::UnknownDomainValue {
                                     domain: "any domain".into(),
                                     value: val.node.clone(),
                                 },
                                 val.span,
+                                &val.node,
+                                all.iter().map(String::as_str),
                             );
                         }
                     }
@@ -737,7 +759,7 @@ impl Checker<'_> {
 
     /// Checks that constant `c` is a value of domain `dom`.
     fn constant_in(&mut self, dom: &str, c: &Spanned<String>) {
-        let Some(values) = self.set.domains.get(dom) else {
+        let Some(values) = self.set.domains.get(dom).cloned() else {
             return; // unknown domain: reported at the declaration
         };
         if values.contains(&c.node) {
@@ -754,7 +776,7 @@ impl Checker<'_> {
                 value: name,
             },
         };
-        self.err(kind, c.span);
+        self.err_unknown(kind, c.span, &c.node, values.iter().map(String::as_str));
     }
 
     fn formula(&mut self, f: &Spanned<Formula>, b: &Bindings) {
@@ -891,11 +913,18 @@ impl Checker<'_> {
                             .map(|s| (s.roles.clone(), false))
                     });
                 let Some((roles, is_percept)) = sig else {
-                    self.err(
+                    let known: Vec<String> = (self.set.percepts.keys())
+                        .chain(self.set.predicates.keys())
+                        .cloned()
+                        .chain(BUILTIN_PREDICATES.iter().map(|s| s.to_string()))
+                        .collect();
+                    self.err_unknown(
                         DiagnosticKind::UnknownPredicate {
                             name: name.to_string(),
                         },
                         a.name.span,
+                        name,
+                        known.iter().map(String::as_str),
                     );
                     return;
                 };

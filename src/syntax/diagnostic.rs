@@ -5,10 +5,11 @@
 //! used by engine-only builds, and — with the `cli` feature — `Report`, a `miette` diagnostic
 //! that bundles one file with all of its problems.
 //!
-//! Depends only on `syntax::span`; every other stage (parsers, map builder, checker, compiler)
+//! Depends only on `syntax::span` and `syntax::suggest` (spelling help for unknown names); every other stage (parsers, map builder, checker, compiler)
 //! produces these.
 
 use super::span::Span;
+use super::suggest::Suggestion;
 use std::fmt;
 
 /// A source text and the name it is shown under (usually the path as the user wrote it).
@@ -661,6 +662,8 @@ pub struct Diagnostic {
     /// A second place in the same file that explains it (e.g. the first definition of a
     /// duplicate), with its label.
     pub related: Option<(Span, &'static str)>,
+    /// For an unknown name: the likely intended spelling, or the names that are known.
+    pub suggestion: Option<Suggestion>,
 }
 
 impl Diagnostic {
@@ -671,6 +674,7 @@ impl Diagnostic {
             severity: Severity::Error,
             span,
             related: None,
+            suggestion: None,
         }
     }
 
@@ -688,9 +692,24 @@ impl Diagnostic {
         self
     }
 
-    /// The help line for this diagnostic.
+    /// Adds spelling help (`None` leaves the diagnostic as it is).
+    pub fn with_suggestion(mut self, suggestion: Option<Suggestion>) -> Self {
+        self.suggestion = suggestion;
+        self
+    }
+
+    /// The help line for this diagnostic's kind.
     pub fn help(&self) -> &'static str {
         self.kind.help()
+    }
+
+    /// The help shown to the author: the spelling suggestion, if any, on its own line before
+    /// the kind's help.
+    pub fn full_help(&self) -> String {
+        match &self.suggestion {
+            Some(s) => format!("{s}\n{}", self.help()),
+            None => self.help().to_string(),
+        }
     }
 
     /// True for errors.
@@ -722,6 +741,9 @@ impl Diagnostic {
         let _ = write_plain(&mut out, self.span, level, &self.kind, file);
         if let Some((span, label)) = self.related {
             let _ = write_plain(&mut out, span, "note", &Note(label), file);
+        }
+        if let Some(s) = &self.suggestion {
+            let _ = writeln!(out, "help: {s}");
         }
         let _ = writeln!(out, "help: {}", self.help());
         out
@@ -837,7 +859,7 @@ mod report {
         }
 
         fn help<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
-            Some(Box::new(self.kind.help()))
+            Some(Box::new(self.full_help()))
         }
 
         fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {

@@ -12,6 +12,7 @@ pub mod parse_map;
 pub mod parse_rules;
 mod recover;
 pub mod span;
+pub mod suggest;
 
 pub use diagnostic::{Diagnostic, DiagnosticKind, SourceFile};
 pub use parse_map::parse_map;

@@ -430,4 +430,137 @@ fn a_malformed_json_line_message() {
         .map(|l| l.replace(&name, "STREAM") + "\n")
         .collect();
     insta::assert_snapshot!("eval_malformed_json", shown);
+
+/// Runs `lplace eval` with `args` and returns stdout.
+fn eval_stdout(args: &[&std::ffi::OsStr]) -> String {
+    let out = lplace()
+        .arg("eval")
+        .args(args)
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    String::from_utf8(out).expect("UTF-8 output")
+}
+
+#[test]
+fn degrees_are_named_by_place_in_json_and_table() {
+    let s = temp("degrees.jsonl", &format!("{AT_P1}\n{EMPTY}\n"));
+    let run = |format: &str| {
+        eval_stdout(&[
+            s.as_os_str(),
+            "--degrees".as_ref(),
+            "--summary".as_ref(),
+            "none".as_ref(),
+            "--format".as_ref(),
+            format.as_ref(),
+        ])
+    };
+    let json = run("jsonl");
+    let first: serde_json::Value =
+        serde_json::from_str(json.lines().next().expect("a line")).expect("JSON");
+    // See AT_P1: N(P1) = 0.608, and P1 is the fully possible place.
+    let places: Vec<&str> = first["possibility"]
+        .as_object()
+        .expect("possibility keyed by place")
+        .keys()
+        .map(String::as_str)
+        .collect();
+    assert_eq!(places, ["P0", "P1", "P2", "P3", "P4", "P5", "P6", "P7"]);
+    assert_eq!(first["possibility"]["P1"], 1.0);
+    assert_eq!(first["necessities"]["P1"], 0.608);
+    let table = run("table");
+    let lines: Vec<&str> = table.lines().collect();
+    assert_eq!(lines.len(), 3, "{table}");
+    for p in ["π/N:P0", "π/N:P7"] {
+        assert!(lines[0].contains(p), "{}", lines[0]);
+    }
+    assert!(lines[1].contains("1.00/0.61"), "{}", lines[1]);
+    // Every cell is padded: header and rows end at the same column.
+    let widths: Vec<usize> = lines.iter().map(|l| l.chars().count()).collect();
+    assert!(widths.iter().all(|w| *w == widths[0]), "{table}");
+}
+
+#[test]
+fn table_stays_aligned_with_a_long_place_name() {
+    let long = "CorridorBetweenTheLaboratoryAndTheKitchenOfTheNorthWing"; // 55 characters
+    let root = env!("CARGO_MANIFEST_DIR");
+    let office = std::fs::read_to_string(format!("{root}/maps/office.map")).expect("office map");
+    let map = temp("long.map", &office.replace("P1 ", &format!("{long} ")));
+    let frames = format!("{AT_P1}\n{EMPTY}\n").replace("\"P1\"", &format!("\"{long}\""));
+    let s = temp("long.jsonl", &frames);
+    let rules = format!("{root}/rules/office.lpl");
+    let table = eval_stdout(&[
+        s.as_os_str(),
+        "--map".as_ref(),
+        map.as_os_str(),
+        "--rules".as_ref(),
+        rules.as_ref(),
+        "--format".as_ref(),
+        "table".as_ref(),
+        "--summary".as_ref(),
+        "none".as_ref(),
+    ]);
+    let lines: Vec<&str> = table.lines().collect();
+    assert_eq!(lines.len(), 3, "{table}");
+    // The decision column is 48 wide: `place ` and the name clipped to 41 characters and `…`.
+    let clipped: String = long.chars().take(48 - "place ".len() - 1).collect();
+    assert!(lines[1].contains(&format!("place {clipped}… ")), "{table}");
+    // The N column (the first after the decision) ends at the same character in every row.
+    let end = |l: &str, pat: &str| {
+        l.find(pat)
+            .map(|b| l[..b].chars().count() + pat.chars().count())
+    };
+    assert_eq!(end(lines[0], " N "), end(lines[1], " 0.608 "), "{table}");
+    assert_eq!(end(lines[1], " 0.608 "), end(lines[2], " - "), "{table}");
+}
+
+#[test]
+fn trace_prints_heads_with_their_arguments() {
+    let out = eval_stdout(&[
+        "--frame".as_ref(),
+        AT_P1.as_ref(),
+        "--trace".as_ref(),
+        "--format".as_ref(),
+        "table".as_ref(),
+    ]);
+    // AT_P1: the walls rule fires at P1 (0.576 before tracking), concluding walls at time t.
+    assert!(out.contains("⊢ walls(t) = "), "{out}");
+    assert!(!out.contains("()"), "{out}");
+}
+
+#[test]
+fn explain_place_wraps_its_formulas_to_100_columns() {
+    let out = lplace()
+        .args(["explain", "--place", "P1"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let text = String::from_utf8(out).expect("UTF-8 output");
+    let formula: Vec<&str> = text.lines().filter(|l| !l.starts_with("//")).collect();
+    for l in &formula {
+        assert!(
+            l.chars().count() <= 100,
+            "{} columns: {l}",
+            l.chars().count()
+        );
+    }
+    // P1's support has three rules (corner, walls, beacon only): more than fits on one line.
+    assert!(formula.len() > 3, "{text}");
+    // Only whitespace was added: without it, the formula reads as `explain` renders it whole.
+    let squeezed: String = formula.concat().split_whitespace().collect();
+    assert!(
+        squeezed
+            .starts_with("at_place(P1)=max(prod(prod(max(min(sonar_wall(North),laser_wall(West)),"),
+        "{squeezed}"
+    );
+    let depth = squeezed.chars().fold(0i64, |d, c| match c {
+        '(' => d + 1,
+        ')' => d - 1,
+        _ => d,
+    });
+    assert_eq!(depth, 0, "{text}");
 }

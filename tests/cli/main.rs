@@ -10,6 +10,7 @@ mod cli_eval;
 mod cli_fuse;
 mod cli_grid;
 mod cli_hostile;
+mod cli_pictures;
 mod cli_report;
 mod cli_simulate;
 mod cli_survey;

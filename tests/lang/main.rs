@@ -11,3 +11,4 @@ mod syntax_diagnostics;
 mod syntax_examples;
 mod syntax_grammar;
 mod syntax_no_panic;
+mod syntax_suggest;

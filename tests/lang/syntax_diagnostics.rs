@@ -175,6 +175,7 @@ fn plain_rendering_has_position_caret_and_help() {
         "tests/corpus/unknown_predicate.lpl:2:4: error: unknown predicate `sonar_wal`\n\
          \x20   |- sonar_wal(p, t) -> walls(t);\n\
          \x20      ^^^^^^^^^\n\
+         help: known: `walls`, `at_place`, `in_room`, `in_region`, `at_wall`, `at_corner`, `at_open`, `at_door`\n\
          help: declare it with `percept …;` or `predicate …;`, or fix the spelling\n"
     );
 }

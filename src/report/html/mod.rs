@@ -289,8 +289,8 @@ fn run_section(s: &mut String, i: usize, r: &RunPage) {
         s,
         "<h3>Place possibilities and necessities over time</h3>\n<figure class=\"chart\">\n{}\
          <figcaption>Paper 003's run display unrolled over the frames: per place, Π (light) \
-         above N (dark); a tick where the place was chosen, a red bar where it was the \
-         truth.</figcaption>\n</figure>",
+         above N (dark); a black bar where the place was chosen, a pale red band where it \
+         was the truth.</figcaption>\n</figure>",
         r.run_display
     );
     match &r.trajectory {
