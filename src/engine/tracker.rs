@@ -786,6 +786,13 @@ impl Tracker {
         self.pred.fill(0.0);
         for i in 0..self.n {
             let (a, s) = (self.anchor[i], self.since[i]);
+            if a == 0.0 {
+                // `min(0, R) = 0` raises no `pred`, and the revision keeps `T(0, x) = 0` for
+                // every t-norm whatever `compat` is: a dead anchor (the product t-norm drives
+                // unsupported anchors to exactly 0 in a few hundred frames) costs nothing.
+                self.window[i] = (0, 0);
+                continue;
+            }
             let range = match self.disp[i] {
                 Some(d) => {
                     let range = self.gates.row(i);
