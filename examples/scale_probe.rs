@@ -53,7 +53,12 @@ fn main() {
         let a = Instant::now();
         engine.step(f);
         let b = Instant::now();
-        decided += usize::from(tracker.step(engine.distribution(), *odo, None).place().is_some());
+        decided += usize::from(
+            tracker
+                .step(engine.distribution(), *odo, None)
+                .place()
+                .is_some(),
+        );
         e_time += (b - a).as_secs_f64();
         t_time += b.elapsed().as_secs_f64();
         if 2 * k >= frames.len() {

@@ -510,7 +510,8 @@ impl Gates {
                     row.push((l, j));
                 }
             }
-            row.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            // Keys are distinct (`j` breaks ties), so an unstable sort gives the same order, cheaper.
+            row.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
             for &(l, j) in &row {
                 g.target.push(u32::try_from(j).unwrap_or(u32::MAX));
                 g.length.push(l);
