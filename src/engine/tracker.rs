@@ -510,7 +510,8 @@ impl Gates {
                     row.push((l, j));
                 }
             }
-            row.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            // Keys are distinct (`j` breaks ties), so an unstable sort gives the same order, cheaper.
+            row.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
             for &(l, j) in &row {
                 g.target.push(u32::try_from(j).unwrap_or(u32::MAX));
                 g.length.push(l);
@@ -786,6 +787,13 @@ impl Tracker {
         self.pred.fill(0.0);
         for i in 0..self.n {
             let (a, s) = (self.anchor[i], self.since[i]);
+            if a == 0.0 {
+                // `min(0, R) = 0` raises no `pred`, and the revision keeps `T(0, x) = 0` for
+                // every t-norm whatever `compat` is: a dead anchor (the product t-norm drives
+                // unsupported anchors to exactly 0 in a few hundred frames) costs nothing.
+                self.window[i] = (0, 0);
+                continue;
+            }
             let range = match self.disp[i] {
                 Some(d) => {
                     let range = self.gates.row(i);

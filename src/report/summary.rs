@@ -2,12 +2,15 @@
 //! disoriented, what was rejected, and — when the stream carries ground truth — accuracy, the
 //! per-place confusion matrix, the *confidently wrong* rate and kidnap recoveries.
 //!
-//! [`Tally`] is fed one frame at a time into counters sized at construction (nothing allocated
-//! per frame; memory flat on any length); [`Tally::finish`] builds the serialisable [`Summary`].
+//! [`Tally`] is fed one frame at a time into counters sized at construction; the confusion
+//! matrix ([`Confusion`]) keeps only the cells that were hit, so memory grows with the distinct
+//! (truth, decision) pairs met — on a 10,000-place map a dense `(n + 1)²` table was 800 MB.
+//! [`Tally::finish`] builds the serialisable [`Summary`].
 
 use crate::io::stream::{FrameMeta, Rejection};
 use crate::logic::{Decision, Disoriented};
-use serde::Serialize;
+use serde::ser::SerializeSeq;
+use serde::{Serialize, Serializer};
 use std::collections::BTreeMap;
 
 /// Necessity at or above which a wrong decision counts as *confidently* wrong.
@@ -75,8 +78,8 @@ pub struct TruthSummary {
     pub confusion_rows: Vec<String>,
     /// Column labels: decided places, then `disoriented`.
     pub confusion_columns: Vec<String>,
-    /// `confusion[row][column]` frame counts.
-    pub confusion: Vec<Vec<u64>>,
+    /// Frame counts by row and column; serialised as the dense `confusion[row][column]`.
+    pub confusion: Confusion,
     /// Kidnaps detected from the truth poses.
     pub kidnaps: u64,
     /// The first kidnaps, each with its recovery time.
@@ -85,6 +88,86 @@ pub struct TruthSummary {
     pub mean_recovery_frames: Option<f64>,
     /// Worst recovery, frames.
     pub max_recovery_frames: Option<u64>,
+}
+
+/// A square table of frame counts that stores only its non-zero cells: rows are true places
+/// then `none`, columns decided places then `disoriented` (both `side` long). It serialises as
+/// the dense `side × side` array of arrays, written out row by row without building it.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Confusion {
+    side: usize,
+    /// `(row, column) → count`, counts ≥ 1; ordered, so rows come out in order.
+    cells: BTreeMap<(usize, usize), u64>,
+}
+
+impl Confusion {
+    /// An all-zero `side × side` table.
+    pub fn new(side: usize) -> Confusion {
+        Confusion {
+            side,
+            cells: BTreeMap::new(),
+        }
+    }
+
+    /// Rows (and columns).
+    pub fn side(&self) -> usize {
+        self.side
+    }
+
+    /// Counts one frame in a cell; a cell outside the table is ignored (as the dense table did).
+    pub fn add(&mut self, row: usize, column: usize) {
+        if row < self.side && column < self.side {
+            *self.cells.entry((row, column)).or_insert(0) += 1;
+        }
+    }
+
+    /// The count of one cell (0 outside the table).
+    pub fn get(&self, row: usize, column: usize) -> u64 {
+        self.cells.get(&(row, column)).copied().unwrap_or(0)
+    }
+
+    /// The non-zero cells of one row, in column order.
+    pub fn row_cells(&self, row: usize) -> impl Iterator<Item = (usize, u64)> + '_ {
+        self.cells
+            .range((row, 0)..=(row, usize::MAX))
+            .map(|(&(_, c), &n)| (c, n))
+    }
+
+    /// One row, dense: `side` counts in column order.
+    pub fn row(&self, row: usize) -> impl Iterator<Item = u64> + '_ {
+        let mut hits = self.row_cells(row).peekable();
+        (0..self.side).map(move |c| match hits.peek() {
+            Some(&(hc, n)) if hc == c => {
+                hits.next();
+                n
+            }
+            _ => 0,
+        })
+    }
+
+    /// The sum of one row.
+    pub fn row_total(&self, row: usize) -> u64 {
+        self.row_cells(row).map(|(_, n)| n).sum()
+    }
+}
+
+/// One dense row of a [`Confusion`], for serialising.
+struct DenseRow<'a>(&'a Confusion, usize);
+
+impl Serialize for DenseRow<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(self.0.row(self.1))
+    }
+}
+
+impl Serialize for Confusion {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut seq = s.serialize_seq(Some(self.side))?;
+        for r in 0..self.side {
+            seq.serialize_element(&DenseRow(self, r))?;
+        }
+        seq.end()
+    }
 }
 
 /// Everything `lplace eval` reports about a stream.
@@ -124,7 +207,7 @@ pub struct Tally {
     between: u64,
     between_decided: u64,
     /// `(n + 1) × (n + 1)`: rows true place or none, columns decided place or disoriented.
-    confusion: Vec<u64>,
+    confusion: Confusion,
     last_pose: Option<[f64; 3]>,
     kidnaps: u64,
     kidnap_events: Vec<Kidnap>,
@@ -154,7 +237,7 @@ impl Tally {
             confidently_wrong: 0,
             between: 0,
             between_decided: 0,
-            confusion: vec![0; (n + 1) * (n + 1)],
+            confusion: Confusion::new(n + 1),
             last_pose: None,
             kidnaps: 0,
             kidnap_events: Vec::new(),
@@ -195,9 +278,7 @@ impl Tally {
         }
         let row = meta.truth_place.map_or(n, |p| p.min(n));
         let col = chosen.map_or(n, |(p, _)| p);
-        if let Some(c) = self.confusion.get_mut(row * (n + 1) + col) {
-            *c += 1;
-        }
+        self.confusion.add(row, col);
         match (meta.truth_place, chosen) {
             (Some(t), Some((p, nec))) => {
                 self.with_truth += 1;
@@ -264,7 +345,6 @@ impl Tally {
 
     /// The summary so far.
     pub fn finish(&self) -> Summary {
-        let n = self.places.len();
         let rate = |a: u64| {
             if self.with_truth == 0 {
                 0.0
@@ -296,7 +376,7 @@ impl Tally {
                 .cloned()
                 .chain(std::iter::once("disoriented".to_string()))
                 .collect(),
-            confusion: self.confusion.chunks(n + 1).map(<[u64]>::to_vec).collect(),
+            confusion: self.confusion.clone(),
             kidnaps: self.kidnaps,
             kidnap_events: self.kidnap_events.clone(),
             mean_recovery_frames: (self.recovered_count > 0)
@@ -401,9 +481,9 @@ impl TruthSummary {
             write!(out, " {:>5}", if c == "disoriented" { "dis" } else { c })?;
         }
         writeln!(out)?;
-        for (r, row) in t.confusion_rows.iter().zip(&t.confusion) {
+        for (i, r) in t.confusion_rows.iter().enumerate() {
             write!(out, "{r:>6}")?;
-            for c in row {
+            for c in t.confusion.row(i) {
                 write!(out, " {c:>5}")?;
             }
             writeln!(out)?;
@@ -482,5 +562,72 @@ mod tests {
             }]
         );
         assert_eq!(truth.max_recovery_frames, Some(5));
+    }
+
+    /// A dense table, counted the obvious way, for the sparse one to be checked against.
+    fn dense(n: usize, cells: &[(usize, usize)]) -> Vec<Vec<u64>> {
+        let mut m = vec![vec![0u64; n + 1]; n + 1];
+        for &(r, c) in cells {
+            m[r][c] += 1;
+        }
+        m
+    }
+
+    #[test]
+    fn sparse_confusion_prints_as_the_dense_table_on_random_runs() {
+        let mut rng = crate::core::rng::SplitMix64::new(16);
+        for trial in 0..40 {
+            let n = 1 + rng.below(7);
+            let places: Vec<String> = (0..n).map(|i| format!("Q{i}")).collect();
+            let mut t = Tally::new(places.clone(), true);
+            let mut hits = Vec::new();
+            for line in 0..rng.below(60) as u64 {
+                let truth = (!rng.chance(0.2)).then(|| rng.below(n));
+                let decided = (!rng.chance(0.3)).then(|| rng.below(n));
+                let d = match decided {
+                    Some(p) => Decision::Place {
+                        place: p,
+                        necessity: 0.5,
+                    },
+                    None => Decision::Disoriented(Disoriented::NoPlaces),
+                };
+                t.record(d, &meta(line, truth, 0.0));
+                hits.push((truth.unwrap_or(n), decided.unwrap_or(n)));
+            }
+            let want = dense(n, &hits);
+            let Some(truth) = t.finish().truth else {
+                assert!(hits.is_empty(), "trial {trial}");
+                continue;
+            };
+            // JSON: the same array of arrays the dense table gave.
+            assert_eq!(
+                serde_json::to_value(&truth.confusion).expect("serialises"),
+                serde_json::to_value(&want).expect("serialises"),
+                "trial {trial}"
+            );
+            // Text: the table, written from the dense rows by hand.
+            let mut text = Vec::new();
+            truth.write_text(&mut text).expect("writes");
+            let text = String::from_utf8(text).expect("UTF-8");
+            let mut table = format!("confusion (rows truth, columns decided):\n{:>6}", "");
+            for c in places.iter().map(String::as_str).chain(["dis"]) {
+                table += &format!(" {c:>5}");
+            }
+            table += "\n";
+            for (r, row) in places.iter().map(String::as_str).chain(["none"]).zip(&want) {
+                table += &format!("{r:>6}");
+                for c in row {
+                    table += &format!(" {c:>5}");
+                }
+                table += "\n";
+            }
+            assert!(
+                text.ends_with(&table),
+                "trial {trial}:\n{text}\nwant\n{table}"
+            );
+            for (r, row) in want.iter().enumerate() {
+                assert_eq!(truth.confusion.row_total(r), row.iter().sum::<u64>());
+            }
+        }
     }
 }

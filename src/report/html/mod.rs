@@ -378,14 +378,14 @@ fn confusion(s: &mut String, t: &TruthSummary) {
         let _ = write!(s, "<th>{}</th>", xml_escape(c));
     }
     s.push_str("</tr>\n");
-    for (r, row) in t.confusion_rows.iter().zip(&t.confusion) {
-        let total: u64 = row.iter().sum();
+    for (i, r) in t.confusion_rows.iter().enumerate() {
+        let total = t.confusion.row_total(i);
         let _ = write!(s, "<tr><th class=\"l\">{}</th>", xml_escape(r));
-        for (c, n) in t.confusion_columns.iter().zip(row) {
+        for (c, n) in t.confusion_columns.iter().zip(t.confusion.row(i)) {
             let share = if total == 0 {
                 0.0
             } else {
-                *n as f64 / total as f64
+                n as f64 / total as f64
             };
             // Green right, grey disoriented (not wrong, just undecided), red wrong.
             let colour = match c.as_str() {

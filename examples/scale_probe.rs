@@ -1,0 +1,78 @@
+//! Splits a tracked frame at N generated places into `Engine::step` and the graph tracker's
+//! step (issue 16): `cargo run --release --example scale_probe -- 10000 400`.
+
+use lplace::engine::tracker::{PlaceTracker, TrackerConfig};
+use lplace::engine::Engine;
+use lplace::logic::DecisionParams;
+use lplace::sim::{SimConfig, Simulator};
+use lplace::syntax::diagnostic::SourceFile;
+use std::time::Instant;
+
+fn main() {
+    let arg = |i: usize, d: u64| {
+        std::env::args()
+            .nth(i)
+            .and_then(|a| a.parse().ok())
+            .unwrap_or(d)
+    };
+    let (n, steps) = (arg(1, 1000) as usize, arg(2, 400));
+    let text = lplace::sim::large_map::lattice_office(n, 1);
+    let t0 = Instant::now();
+    let rules = include_str!("../rules/office.lpl");
+    let Ok(mut engine) = Engine::load(
+        &SourceFile::new("scale.map", text.as_str()),
+        &SourceFile::new("rules/office.lpl", rules),
+    ) else {
+        eprintln!("the generated map does not load");
+        return;
+    };
+    let load = t0.elapsed();
+    let cfg = SimConfig {
+        steps,
+        seed: 3,
+        ..SimConfig::default()
+    };
+    let frames: Vec<_> = Simulator::for_engine(&engine, cfg)
+        .map(|rec| {
+            let mut f = engine.new_frame();
+            rec.fill(engine.percepts(), &mut f, &mut Vec::new());
+            (f, rec.odometry.unwrap_or_default().to_si())
+        })
+        .collect();
+    let logic = engine.rules().logic;
+    let params = DecisionParams {
+        threshold: logic.threshold,
+        margin: logic.margin,
+    };
+    let t1 = Instant::now();
+    let mut tracker = PlaceTracker::new(engine.map(), params, TrackerConfig::default());
+    let build = t1.elapsed();
+    let (mut e_time, mut t_time, mut decided) = (0.0, 0.0, 0);
+    let mut late = 0.0;
+    for (k, (f, odo)) in frames.iter().enumerate() {
+        let a = Instant::now();
+        engine.step(f);
+        let b = Instant::now();
+        decided += usize::from(
+            tracker
+                .step(engine.distribution(), *odo, None)
+                .place()
+                .is_some(),
+        );
+        e_time += (b - a).as_secs_f64();
+        t_time += b.elapsed().as_secs_f64();
+        if 2 * k >= frames.len() {
+            late += b.elapsed().as_secs_f64();
+        }
+    }
+    let k = frames.len().max(1) as f64;
+    println!(
+        "n {n}: load {:.3} s, tracker built {:.3} s; per frame: engine {:.1} µs, tracker {:.1} µs (second half: {:.1} µs); decided {decided}/{}",
+        load.as_secs_f64(),
+        build.as_secs_f64(),
+        1e6 * e_time / k,
+        1e6 * t_time / k,
+        2e6 * late / k,
+        frames.len()
+    );
+}
