@@ -430,6 +430,7 @@ fn a_malformed_json_line_message() {
         .map(|l| l.replace(&name, "STREAM") + "\n")
         .collect();
     insta::assert_snapshot!("eval_malformed_json", shown);
+}
 
 /// Runs `lplace eval` with `args` and returns stdout.
 fn eval_stdout(args: &[&std::ffi::OsStr]) -> String {
