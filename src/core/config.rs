@@ -5,6 +5,7 @@
 //! silently ignored setting; this module turns RON's error for it into a message that names the
 //! key, the nearest known key and the keys that exist.
 
+use super::spelling::edit_distance;
 use serde::de::DeserializeOwned;
 use std::fmt;
 
@@ -100,24 +101,6 @@ fn nearest(word: &str, candidates: &'static [&'static str]) -> Option<&'static s
         .map(|(_, c)| c)
 }
 
-/// Levenshtein distance over chars.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut diag = row[0];
-        row[0] = i + 1;
-        for (j, cb) in b.iter().enumerate() {
-            let above = row[j + 1];
-            row[j + 1] = (above + 1)
-                .min(row[j] + 1)
-                .min(diag + usize::from(ca != *cb));
-            diag = above;
-        }
-    }
-    row[b.len()]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -166,13 +149,5 @@ mod tests {
                 stride: 3
             }
         );
-    }
-
-    #[test]
-    fn edit_distances_by_hand() {
-        assert_eq!(edit_distance("kitten", "sitting"), 3);
-        assert_eq!(edit_distance("", "abc"), 3);
-        assert_eq!(edit_distance("flaw", "lawn"), 2);
-        assert_eq!(edit_distance("same", "same"), 0);
     }
 }

@@ -3,7 +3,7 @@
 //! mean `sonar_wall`?") or, when none is, the known names themselves (capped, so a map with
 //! thousands of places does not flood the terminal).
 //!
-//! Depends on nothing; the checker (`rules`) attaches the result to its diagnostics.
+//! The distance itself is `core::spelling`'s (configuration keys use it too); the checker (`rules`) attaches the result to its diagnostics.
 
 use std::fmt;
 
@@ -46,23 +46,7 @@ impl fmt::Display for Suggestion {
     }
 }
 
-/// The Levenshtein distance between `a` and `b` in characters (insertions, deletions and
-/// substitutions, each costing 1), with one row of the dynamic-programming table.
-pub fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    // row[j]: distance between the prefix of `a` read so far and b[..j].
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut diagonal = row[0];
-        row[0] = i + 1;
-        for (j, cb) in b.iter().enumerate() {
-            let substitute = diagonal + usize::from(ca != *cb);
-            diagonal = row[j + 1];
-            row[j + 1] = substitute.min(row[j] + 1).min(diagonal + 1);
-        }
-    }
-    row[b.len()]
-}
+pub use crate::core::spelling::edit_distance;
 
 /// The largest distance at which a known name still counts as a misspelling of `written`: about
 /// a third of the longer name (rustc's rule of thumb), so `Nord` → `North` (2 edits in 5) and
