@@ -58,9 +58,9 @@ fn limit(written: &str, known: &str) -> usize {
 }
 
 /// Help for the unknown name `written` among the `known` names (in declaration order): the
-/// closest known name within [`limit`] when there is only one (a name differing only in letter
-/// case counts as closest), else the known names, at most [`MAX_LISTED`]. `None` when nothing
-/// is known.
+/// closest known name within about a third of the longer name's length (see `limit`) when there
+/// is only one (a name differing only in letter case counts as closest), else the known names,
+/// at most [`MAX_LISTED`]. `None` when nothing is known.
 pub fn suggest<'a>(written: &str, known: impl IntoIterator<Item = &'a str>) -> Option<Suggestion> {
     // A name may come from two tables (declared and defined): list it once.
     let mut known: Vec<&str> = known.into_iter().filter(|k| *k != written).collect();
