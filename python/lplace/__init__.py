@@ -19,6 +19,7 @@ from lplace._eval import (
     evaluate,
     extract,
     iter_batches,
+    rejection_text,
     survey,
 )
 from lplace._lplace import OFFICE_MAP, OFFICE_RECORDING, OFFICE_RULES, REASONS, Decision, Engine
@@ -40,5 +41,6 @@ __all__ = [
     "evaluate",
     "extract",
     "iter_batches",
+    "rejection_text",
     "survey",
 ]

@@ -47,7 +47,7 @@ class EvalResult(NamedTuple):
     table: pa.Table
     #: ``lplace eval --summary json``, as a dict.
     summary: Dict[str, Any]
-    #: One dict per rejected record: ``line``, ``kind``, ``message``.
+    #: One dict per rejected record: ``line``, ``column`` (or ``None``), ``kind``, ``message``.
     rejected: List[Dict[str, Any]]
 
 
@@ -108,13 +108,23 @@ def table_of(cols: Dict[str, Any], places: List[str]) -> pa.Table:
 
 
 def rejections_of(cols: Dict[str, Any]) -> List[Dict[str, Any]]:
-    """The rejected records of a dict of columns from the extension."""
+    """The rejected records of a dict of columns from the extension: ``line``, ``column``
+    (``None`` when the problem has no column), ``kind`` and ``message`` (without position)."""
+    lines = cols["rejected_line"]
+    columns = cols.get("rejected_column", [None] * len(lines))
     return [
-        {"line": line, "kind": kind, "message": message}
-        for line, kind, message in zip(
-            cols["rejected_line"], cols["rejected_kind"], cols["rejected_message"]
+        {"line": line, "column": column, "kind": kind, "message": message}
+        for line, column, kind, message in zip(
+            lines, columns, cols["rejected_kind"], cols["rejected_message"]
         )
     ]
+
+
+def rejection_text(path: Any, r: Dict[str, Any]) -> str:
+    """A rejection as the command line prints it: ``PATH:LINE: what`` or
+    ``PATH:LINE:COLUMN: what``."""
+    at = f"{r['line']}" if r.get("column") is None else f"{r['line']}:{r['column']}"
+    return f"{path}:{at}: {r['message']}"
 
 
 def evaluate(
@@ -263,7 +273,7 @@ class SurveyResult(NamedTuple):
     #: (``at_place``, ``decided``, ``right``, ``confidently_wrong``, their rates, and ``text``,
     #: the line ``lplace survey`` prints); ``None`` with ``fit="all"``.
     held_out: Optional[Dict[str, Any]]
-    #: One dict per rejected stream line: ``line``, ``kind``, ``message``.
+    #: One dict per rejected stream line: ``line``, ``column`` (``None``), ``kind``, ``message``.
     rejected: List[Dict[str, Any]]
 
 
@@ -356,10 +366,4 @@ def survey(
         ],
         schema=SURVEY_SCHEMA,
     )
-    rejected = [
-        {"line": line, "kind": kind, "message": message}
-        for line, kind, message in zip(
-            d["rejected_line"], d["rejected_kind"], d["rejected_message"]
-        )
-    ]
-    return SurveyResult(d["map_text"], table, d["held_out"], rejected)
+    return SurveyResult(d["map_text"], table, d["held_out"], rejections_of(d))

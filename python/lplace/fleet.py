@@ -47,7 +47,14 @@ SUMMARY_SCHEMA = pa.schema(
         (
             "rejections",
             pa.list_(
-                pa.struct([("line", pa.uint64()), ("kind", pa.string()), ("message", pa.string())])
+                pa.struct(
+                    [
+                        ("line", pa.uint64()),
+                        ("column", pa.uint64()),
+                        ("kind", pa.string()),
+                        ("message", pa.string()),
+                    ]
+                )
             ),
         ),
     ]
@@ -280,7 +287,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         print(",".join("" if r[c] is None else str(r[c]) for c in cols))
     for r in table.to_pylist():
         for rej in r["rejections"]:
-            print(f"{r['path']}:{rej['line']}: {rej['message']}", file=sys.stderr)
+            print(_eval.rejection_text(r["path"], rej), file=sys.stderr)
     if args.summary:
         pq.write_table(table, args.summary)
     if "failed" in table.column("status").to_pylist():

@@ -48,6 +48,7 @@ struct EvalColumns {
     truth: Vec<i32>,
     truth_known: Vec<bool>,
     rejected_line: Vec<u64>,
+    rejected_column: Vec<Option<usize>>,
     rejected_kind: Vec<&'static str>,
     rejected_message: Vec<String>,
 }
@@ -83,8 +84,9 @@ impl EvalColumns {
 
     fn reject(&mut self, e: &LineError) {
         self.rejected_line.push(e.line);
+        self.rejected_column.push(e.reason.column());
         self.rejected_kind.push(e.reason.kind());
-        self.rejected_message.push(e.reason.to_string());
+        self.rejected_message.push(e.reason.message());
     }
 
     fn into_dict(self, py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
@@ -98,6 +100,7 @@ impl EvalColumns {
         out.set_item("truth", PyArray1::from_vec(py, self.truth))?;
         out.set_item("truth_known", PyArray1::from_vec(py, self.truth_known))?;
         out.set_item("rejected_line", self.rejected_line)?;
+        out.set_item("rejected_column", self.rejected_column)?;
         out.set_item("rejected_kind", self.rejected_kind)?;
         out.set_item("rejected_message", self.rejected_message)?;
         Ok(out)

@@ -230,7 +230,14 @@ def test_hostile_stream_is_rejected_line_by_line_like_the_cli(lplace_bin, tmp_pa
     res = lplace.evaluate(path)
     assert render_rows(res.table.to_pylist()) == stdout
     cli_lines = [l for l in stderr.decode().splitlines() if l.startswith(str(path) + ":")]
-    ours = [f"{path}:{r['line']}: {r['message']}" for r in res.rejected]
+    # The position is composed here from the fields, as a user would, and must read as the CLI's.
+    ours = [
+        f"{path}:{r['line']}"
+        + ("" if r["column"] is None else f":{r['column']}")
+        + f": {r['message']}"
+        for r in res.rejected
+    ]
+    assert any(r["column"] is not None for r in res.rejected)
     assert ours == cli_lines and len(ours) == len(bad)
     assert res.summary["rejected"] == len(bad)
     assert sum(res.summary["rejected_by_kind"].values()) == len(bad)

@@ -194,6 +194,7 @@ def test_hostile_stream_is_rejected_line_by_line_like_the_cli(lplace_bin, sim_ru
     # Every rejection the CLI printed, with its line, kind and message.
     printed = [ln for ln in stderr.splitlines() if ln.startswith(str(path))]
     assert printed == [f"{path}:{r['line']}: {r['message']}" for r in res.rejected]
+    assert all(r["column"] is None for r in res.rejected)
     assert len(res.rejected) >= 6 and {r["kind"] for r in res.rejected} <= {"malformed", "version"}
     # A place the map does not declare cannot be written: an error, never a partial map.
     stray = '{"t": 0, "percepts": [{"name": "beacon_angle", "value": 1, "degree": 1}],' \

@@ -356,6 +356,23 @@ pub enum Rejection {
 }
 
 impl Rejection {
+    /// The 1-based column (byte) the problem was found at, when it has one.
+    pub fn column(&self) -> Option<usize> {
+        match self {
+            Rejection::Malformed { column, .. } => Some(*column),
+            _ => None,
+        }
+    }
+
+    /// What is wrong without its position (the column is [`Rejection::column`]), so that a
+    /// front end can print `FILE:LINE:COLUMN: what` as the command line does.
+    pub fn message(&self) -> String {
+        match self {
+            Rejection::Malformed { message, .. } => message.clone(),
+            reason => reason.to_string(),
+        }
+    }
+
     /// A short, stable name of the kind of problem, for counting in summaries.
     pub fn kind(&self) -> &'static str {
         match self {
@@ -390,11 +407,9 @@ pub struct LineError {
 
 impl fmt::Display for LineError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match &self.reason {
-            Rejection::Malformed { column, message } => {
-                write!(f, "{}:{column}: {message}", self.line)
-            }
-            reason => write!(f, "{}: {reason}", self.line),
+        match self.reason.column() {
+            Some(column) => write!(f, "{}:{column}: {}", self.line, self.reason.message()),
+            None => write!(f, "{}: {}", self.line, self.reason),
         }
     }
 }
