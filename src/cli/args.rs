@@ -584,9 +584,12 @@ pub enum ArgError {
         /// The places there are.
         known: String,
     },
-    /// The frame given with `--frame` is not usable.
+    /// The frame given with `--frame` is not usable (the stream reader's reason).
     #[error("--frame: {0}")]
-    Frame(#[from] crate::io::record::RecordError),
+    Frame(crate::io::stream::Rejection),
+    /// `--frame` was given an empty or blank record.
+    #[error("--frame: no record (an empty or blank argument)")]
+    EmptyFrame,
     /// A numeric flag outside its range.
     #[error("--{flag}: {value} is out of range ({range})")]
     OutOfRange {

@@ -13,8 +13,10 @@ use super::{load_engine, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::engine::outcome::QueryOutcome;
 use crate::engine::tracker::TrackerConfig;
 use crate::engine::{CompileOptions, Engine};
-use crate::io::record::FrameRecord;
-use crate::io::stream::{read_records, FrameMeta, Record, StreamFormat, StreamReader, Threads};
+use crate::io::stream::{
+    read_records, FrameMeta, ReadOutcome, Record, Rejection, Schema, StreamFormat, StreamReader,
+    Threads,
+};
 use crate::logic::{Decision, PlaceDistribution, PlaceSet};
 use crate::report::summary::reason_name;
 use crate::report::trajectory::{self, TrajectoryPoint, Verdict};
@@ -33,23 +35,18 @@ pub fn run(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
     }
 }
 
-/// Evaluates one frame. A frame with any unusable percept is rejected whole (exit 2): on the
-/// command line, a typo should not quietly change the answer.
+/// Evaluates one frame. It is read by the stream reader every other command uses (the same
+/// validation and the same messages); a frame it would reject is an argument error (exit 2): on
+/// the command line, a typo should not quietly change the answer.
 fn run_frame(args: &EvalArgs, json: &str, out: &mut impl Write) -> Result<u8, CliError> {
     let opts = CompileOptions {
         trace: args.trace,
         ..CompileOptions::default()
     };
     let mut engine = load_engine(&args.model, &opts)?;
-    let record = FrameRecord::parse(json).map_err(ArgError::Frame)?;
-    let mut frame = engine.new_frame();
-    let mut rejected = Vec::new();
-    record.fill(engine.percepts(), &mut frame, &mut rejected);
-    if let Some(first) = rejected.into_iter().next() {
-        return Err(ArgError::Frame(first).into());
-    }
+    let (frame, region) = read_one_frame(&engine, json)?;
     let queries = resolve_queries(&engine, &args.query)?;
-    let known = match &record.region {
+    let known = match &region {
         Some(name) => Some(engine.query_set(name).map_err(|error| ArgError::Query {
             query: name.clone(),
             error,
@@ -92,6 +89,34 @@ fn run_frame(args: &EvalArgs, json: &str, out: &mut impl Write) -> Result<u8, Cl
         Format::Table => write_table(&outcome, out)?,
     }
     Ok(EXIT_OK)
+}
+
+/// The `--frame` record as the engine's frame, and the name of its known region if it gives one.
+/// JSON allows a line break wherever it allows a space outside a string (and none inside one), so
+/// a frame written over several lines in a shell reads as the same one-line record.
+fn read_one_frame(
+    engine: &Engine,
+    json: &str,
+) -> Result<(crate::engine::Frame, Option<String>), ArgError> {
+    let line = json.replace(['\n', '\r'], " ");
+    let regions = crate::engine::query::set_names(engine.map(), engine.rules());
+    let schema = Schema::new(engine.percepts(), engine.map()).with_regions(regions.clone());
+    let mut reader = StreamReader::new(line.as_bytes(), schema, StreamFormat::JsonLines);
+    let mut frame = engine.new_frame();
+    let mut meta = FrameMeta::default();
+    match reader.next_frame(&mut frame, &mut meta) {
+        Ok(ReadOutcome::Frame) => {
+            let region = meta.region.and_then(|r| regions.get(r as usize).cloned());
+            Ok((frame, region))
+        }
+        Ok(ReadOutcome::Rejected(e)) => Err(ArgError::Frame(e.reason)),
+        Ok(ReadOutcome::End) => Err(ArgError::EmptyFrame),
+        // Reading from memory cannot fail.
+        Err(e) => Err(ArgError::Frame(Rejection::Malformed {
+            column: 1,
+            message: e.to_string(),
+        })),
+    }
 }
 
 /// The `--frame` outcome as a table: the decision, Inc, per place α, β, π, Π, N, then rooms,

@@ -565,3 +565,52 @@ fn explain_place_wraps_its_formulas_to_100_columns() {
     });
     assert_eq!(depth, 0, "{text}");
 }
+
+/// `--frame` is read by the stream reader: a record the stream would reject (and why) is the
+/// argument error of `--frame`, with the same words; a good record written over several lines
+/// (as in a shell) decides as on one.
+#[test]
+fn frame_is_validated_as_a_stream_record_is() {
+    let bad = [
+        r#"{"percepts":[{"name":"sonar_wall","args":["North"],"degree":1.5}]}"#,
+        r#"{"percepts":[{"name":"sonar_wal","args":["North"],"degree":0.5}]}"#,
+        r#"{"version":1,"percepts":[}"#,
+        r#"{"percepts":[],"region":"Nowhere"}"#,
+    ];
+    for (k, record) in bad.iter().enumerate() {
+        let s = temp(&format!("frame-{k}.jsonl"), &format!("{record}\n"));
+        let stream = lplace()
+            .arg("eval")
+            .arg(&s)
+            .assert()
+            .code(3)
+            .get_output()
+            .stderr
+            .clone();
+        let stream = String::from_utf8(stream).unwrap();
+        let prefix = format!("{}:1", s.display());
+        let reason = stream
+            .lines()
+            .find_map(|l| l.strip_prefix(&prefix))
+            .unwrap_or_else(|| panic!("{stream}"))
+            // `:COLUMN: what` for a malformed line, `: what` otherwise.
+            .trim_start_matches(':')
+            .trim_start();
+        let frame = lplace().args(["eval", "--frame", record]).assert().code(2);
+        let frame = String::from_utf8(frame.get_output().stderr.clone()).unwrap();
+        let (column, what) = match reason.split_once(": ") {
+            Some((c, w)) if c.parse::<usize>().is_ok() => (Some(c), w),
+            _ => (None, reason),
+        };
+        let expected = match column {
+            Some(c) => format!("error: --frame: column {c}: {what}"),
+            None => format!("error: --frame: {what}"),
+        };
+        assert_eq!(frame.trim_end(), expected, "record {record}");
+    }
+    let one = eval_stdout(&["--frame".as_ref(), AT_P1.as_ref()]);
+    let spread = AT_P1.replace("],", "],\n   ").replace(",{", ",\n {");
+    assert!(spread.lines().count() > 3);
+    assert_eq!(eval_stdout(&["--frame".as_ref(), spread.as_ref()]), one);
+    lplace().args(["eval", "--frame", " \n "]).assert().code(2);
+}
