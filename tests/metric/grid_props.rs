@@ -224,7 +224,9 @@ proptest! {
         }).collect();
         let max = prod.iter().cloned().fold(0.0, f32::max);
         prop_assume!(max > 0.0);
-        prop_assert!((g.last_height() - max).abs() < 1e-6);
+        // Relative, as for the cells below: the grid and this reference compute distances and
+        // flanks in f32 in a different order, ~10 ulps apart (1.1e-6 at a height of 0.83 found).
+        prop_assert!((g.last_height() - max).abs() <= 1e-5 * max, "height {} vs {}", g.last_height(), max);
         for c in 0..600 {
             let n = (prod[c] / max).min(1.0);
             let got = g.possibilities()[c];
