@@ -144,19 +144,15 @@ fn write_table(outcome: &crate::engine::Outcome, out: &mut impl Write) -> std::i
             p.place, p.support, p.exclusion, p.possibility_raw, p.possibility, p.necessity
         )?;
     }
-    for r in &outcome.rooms {
-        writeln!(
-            out,
-            "room {:<3} support {:.3}  Π {:.3}  N {:.3}",
-            r.room, r.support, r.possibility, r.necessity
-        )?;
-    }
-    for r in &outcome.regions {
-        writeln!(
-            out,
-            "region {} support {:.3}  Π {:.3}  N {:.3}",
-            r.room, r.support, r.possibility, r.necessity
-        )?;
+    // Rooms are short names padded to a column; regions are written as named.
+    for (label, width, sets) in [("room", 3, &outcome.rooms), ("region", 0, &outcome.regions)] {
+        for r in sets {
+            writeln!(
+                out,
+                "{label} {:<width$} support {:.3}  Π {:.3}  N {:.3}",
+                r.room, r.support, r.possibility, r.necessity
+            )?;
+        }
     }
     for q in &outcome.queries {
         writeln!(
