@@ -13,8 +13,8 @@
 //! the metre scale bar, the possibility colour scale).
 //!
 //! Depends on `logic` (decisions, distributions), `engine` (the run's engine and tracker),
-//! `grid` (the plane drawn by `grid_svg`) and `io::stream` (frame meta data, rejections); nothing depends on it except the command line and
-//! the Python binding.
+//! `grid` (the plane drawn by `grid_svg`) and `io::stream` (frame meta data, rejections);
+//! nothing depends on it except the command line and the Python binding.
 
 pub mod axis;
 pub mod batch;
