@@ -13,12 +13,13 @@
 
 use std::fmt;
 use std::io::Write;
-use std::path::Path;
 use std::str::FromStr;
 use std::time::{Duration, Instant};
 
-use super::args::{CompareArgs, Format, FrameInput, SweepKind};
-use super::grid::{bad, kidnap, load_frames, output_error, read_config, write_trajectory};
+use super::args::{CompareArgs, Format, SweepKind};
+use super::grid::{
+    bad, input_title, kidnap, load_frames, output_error, read_config, write_trajectory,
+};
 use super::{CliError, EXIT_OK, EXIT_REJECTED};
 use crate::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
 use crate::grid::{GridConfig, LandmarkTable};
@@ -378,7 +379,7 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
         Some(kind) => run_sweeps(kind, args, &setup, frames)?,
     };
     if let Some(path) = &args.svg {
-        let picture = plot(&args.methods, &points, &sweep_title(&args.input));
+        let picture = plot(&args.methods, &points, &input_title(&args.input));
         super::output::write_atomic(path, |w| w.write_all(picture.as_bytes()))?;
     }
     match args.format {
@@ -492,8 +493,9 @@ fn trim(v: f64) -> String {
     t.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-/// The sweeps as plot panels under `title`: ATE RMSE (from the first fix) per method.
-fn plot(methods: &[MethodSpec], points: &[SweepPoint], title: &str) -> String {
+/// The sweeps as plot panels: ATE RMSE (from the first fix) per method, titled with `what` was
+/// evaluated.
+fn plot(methods: &[MethodSpec], points: &[SweepPoint], what: &str) -> String {
     let mut panels = Vec::new();
     for (sweep, title) in [
         ("noise", "added noise (σ range / σ bearing)"),
@@ -522,35 +524,8 @@ fn plot(methods: &[MethodSpec], points: &[SweepPoint], title: &str) -> String {
             series,
         });
     }
-    sweep::svg(&panels, title, "ATE RMSE from first fix [m]")
-}
-
-/// The sweep picture's title: what was evaluated, named by the data set's folder and the robot
-/// (`--from-dir`) or the stream's file (which names the robot it was extracted for), never by a
-/// whole path.
-fn sweep_title(input: &FrameInput) -> String {
-    let full = |p: &Path| {
-        let p = super::data::resolve(p);
-        std::fs::canonicalize(&p).unwrap_or(p)
-    };
-    let name = |p: &Path| p.file_name().map(|n| n.to_string_lossy().into_owned());
-    let what = match (&input.from_dir, input.robot, &input.stream) {
-        (Some(dir), Some(r), _) => {
-            let set = name(&full(dir)).unwrap_or_else(|| dir.display().to_string());
-            format!("data set {set}, robot {r}")
-        }
-        (_, _, Some(s)) if s.as_os_str() == "-" => "stream on standard input".to_string(),
-        (_, _, Some(s)) => {
-            let s = full(s);
-            let file = name(&s).unwrap_or_default();
-            match s.parent().and_then(name) {
-                Some(set) => format!("data set {set}, stream {file}"),
-                None => format!("stream {file}"),
-            }
-        }
-        _ => "no input".to_string(),
-    };
-    format!("Perturbation sweep: {what}")
+    let title = format!("Perturbation sweep: {what}");
+    sweep::svg(&panels, &title, "ATE RMSE from first fix [m]")
 }
 
 fn opt(v: Option<f64>, digits: usize) -> String {

@@ -129,7 +129,7 @@ pub fn run(args: &GridArgs, out: &mut impl Write) -> Result<u8, CliError> {
         }
     };
     if let Some(dir) = &args.svg {
-        write_frames(dir, table, &cfg, frames)?;
+        write_frames(dir, table, &cfg, frames, &input_title(&args.input))?;
     }
     if let Some(s) = &spinner {
         s.finish_and_clear();
@@ -268,6 +268,33 @@ pub(super) fn frame_inputs(input: &FrameInput) -> Vec<(&'static str, &Path)> {
     map.into_iter().chain(stream).collect()
 }
 
+/// What a picture shows, for its title: the data set's folder and the robot (`--from-dir`), or
+/// the stream's folder and file (which names the robot it was extracted for); never a whole
+/// path.
+pub(super) fn input_title(input: &FrameInput) -> String {
+    let full = |p: &Path| {
+        let p = super::data::resolve(p);
+        std::fs::canonicalize(&p).unwrap_or(p)
+    };
+    let name = |p: &Path| p.file_name().map(|n| n.to_string_lossy().into_owned());
+    match (&input.from_dir, input.robot, &input.stream) {
+        (Some(dir), Some(r), _) => {
+            let set = name(&full(dir)).unwrap_or_else(|| dir.display().to_string());
+            format!("data set {set}, robot {r}")
+        }
+        (_, _, Some(s)) if s.as_os_str() == "-" => "stream on standard input".to_string(),
+        (_, _, Some(s)) => {
+            let s = full(s);
+            let file = name(&s).unwrap_or_default();
+            match s.parent().and_then(name) {
+                Some(set) => format!("data set {set}, stream {file}"),
+                None => format!("stream {file}"),
+            }
+        }
+        _ => "no input".to_string(),
+    }
+}
+
 /// An output file's I/O error with the file named in the message (exit 1).
 pub(super) fn output_error(path: &Path, source: std::io::Error) -> CliError {
     CliError::WriteFile {
@@ -346,12 +373,13 @@ fn print_scores(
 const SVG_TIMES: [f64; 6] = [0.5, 1.0, 2.0, 4.0, 8.0, 16.0];
 
 /// Replays the grid's run (the same [`Drive`] as `localize::grid::run`) and writes the plane at
-/// [`SVG_TIMES`], drawn by [`grid_svg::svg`].
+/// [`SVG_TIMES`], drawn by [`grid_svg::svg`] with `what` was run in the title.
 fn write_frames(
     dir: &Path,
     table: &LandmarkTable,
     cfg: &GridConfig,
     frames: &[MetricFrame],
+    what: &str,
 ) -> Result<(), CliError> {
     output::create_folder(dir)?;
     let mut loc = GridLocalizer::new(table, cfg).map_err(bad)?;
@@ -367,7 +395,7 @@ fn write_frames(
         drive.step(&mut loc, f);
         if f.t - t0 >= SVG_TIMES[next] {
             let path = dir.join(format!("grid-{:03}.svg", next));
-            let picture = grid_svg::svg(loc.grid(), table, f.truth, f.t - t0);
+            let picture = grid_svg::svg(loc.grid(), table, f.truth, f.t - t0, what);
             output::write_atomic(&path, |w| w.write_all(picture.as_bytes()))?;
             next += 1;
         }

@@ -10,6 +10,7 @@
 use std::fmt::Write as _;
 
 use super::axis::{format_tick, possibility_level, scale_bar, Ticks, POSSIBILITY_FILL};
+use super::plot::xml_escape;
 use crate::core::Pose2;
 use crate::grid::{FuzzyGrid, LandmarkTable};
 
@@ -19,7 +20,7 @@ const PLOT_PX: f64 = 560.0;
 const MAX_BLOCKS: usize = 120;
 /// Pixels left of, above, below and right of the plotted area (axes, title, legend).
 const LEFT: f64 = 64.0;
-const TOP: f64 = 52.0;
+const TOP: f64 = 66.0;
 const BOTTOM: f64 = 48.0;
 const LEGEND_W: f64 = 210.0;
 /// Height of the legend column, pixels: the picture is at least this tall below `TOP`.
@@ -31,17 +32,24 @@ const ESTIMATE: &str = "#1a9641";
 const HEADING: &str = "#e66101";
 const EXTENT: &str = "#888888";
 
-/// The frame `t` seconds after the first: the grid `g`, the map's landmarks and the true pose.
+/// The frame `t` seconds after the first: the grid `g`, the map's landmarks and the true pose,
+/// titled with `what` was run (data set, robot).
 ///
 /// # Example
 /// ```
 /// use lplace::grid::{FuzzyGrid, GridConfig, Landmark, LandmarkTable};
 /// let table = LandmarkTable::new(vec![Landmark { id: 1, x: 0.0, y: 0.0 }]).unwrap();
 /// let g = FuzzyGrid::new(GridConfig::default(), [-1.0, -1.0, 1.0, 1.0]).unwrap();
-/// let s = lplace::report::grid_svg::svg(&g, &table, None, 2.0);
+/// let s = lplace::report::grid_svg::svg(&g, &table, None, 2.0, "demo");
 /// assert!(s.starts_with("<svg") && s.contains("t = 2.0 s") && s.ends_with("</svg>\n"));
 /// ```
-pub fn svg(g: &FuzzyGrid, table: &LandmarkTable, truth: Option<Pose2>, t: f64) -> String {
+pub fn svg(
+    g: &FuzzyGrid,
+    table: &LandmarkTable,
+    truth: Option<Pose2>,
+    t: f64,
+    what: &str,
+) -> String {
     let est = g.estimate();
     let v = View::fit(g, table, truth, (f64::from(est.x), f64::from(est.y)));
     let (w, h) = (v.width(), v.height());
@@ -52,7 +60,8 @@ pub fn svg(g: &FuzzyGrid, table: &LandmarkTable, truth: Option<Pose2>, t: f64) -
     );
     let _ = writeln!(
         s,
-        r##"<rect width="100%" height="100%" fill="white"/><text class="title" x="{LEFT}" y="18" font-size="14">Fuzzy Position Grid at t = {t:.1} s (from the first frame)</text><text x="{LEFT}" y="34" fill="#555">estimate ({:.2} m, {:.2} m), reliability {:.2}; cells {} m, {} × {}</text>"##,
+        r##"<rect width="100%" height="100%" fill="white"/><text class="title" x="{LEFT}" y="18" font-size="14">Fuzzy Position Grid at t = {t:.1} s from the first frame</text><text x="{LEFT}" y="34">{}</text><text x="{LEFT}" y="50" fill="#555">estimate ({:.2} m, {:.2} m), reliability {:.2}; cells {} m, {} × {}</text>"##,
+        xml_escape(what),
         est.x,
         est.y,
         est.reliability,

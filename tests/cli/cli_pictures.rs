@@ -385,6 +385,10 @@ fn grid_frames_have_metre_axes_a_legend_and_nothing_clipped() {
             .expect("a title");
         assert!(title.2.contains("t = 1.5 s"), "{}", title.2);
         assert!(
+            els.iter().any(|e| e.2 == "data set grid, stream s.jsonl"),
+            "the input is named: {first}"
+        );
+        assert!(
             els.iter().any(|e| e.2 == "true pose"),
             "the stream has truth"
         );
@@ -415,9 +419,13 @@ fn mrclam_robot1_grid_pictures_are_readable() {
     let map = std::fs::read_to_string(format!("{root}/maps/mrclam.map")).expect("bundled map");
     let marks = map_landmarks(&map);
     assert!(marks.len() >= 10, "{marks:?}");
+    let set = dir.file_name().unwrap().to_string_lossy().into_owned();
     let mut drawn = 0;
     for f in std::fs::read_dir(&svg).unwrap() {
-        check_grid_picture(&std::fs::read_to_string(f.unwrap().path()).unwrap(), &marks);
+        let text = std::fs::read_to_string(f.unwrap().path()).unwrap();
+        check_grid_picture(&text, &marks);
+        let what = format!(">data set {set}, robot 1<");
+        assert!(text.contains(&what), "{what} is not a heading");
         drawn += 1;
     }
     assert_eq!(drawn, 6, "one picture per time of `--svg`");
