@@ -17,7 +17,9 @@ use std::str::FromStr;
 use std::time::{Duration, Instant};
 
 use super::args::{CompareArgs, Format, SweepKind};
-use super::grid::{bad, kidnap, load_frames, output_error, read_config, write_trajectory};
+use super::grid::{
+    bad, input_title, kidnap, load_frames, output_error, read_config, write_trajectory,
+};
 use super::{CliError, EXIT_OK, EXIT_REJECTED};
 use crate::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
 use crate::grid::{GridConfig, LandmarkTable};
@@ -377,7 +379,7 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
         Some(kind) => run_sweeps(kind, args, &setup, frames)?,
     };
     if let Some(path) = &args.svg {
-        let picture = plot(&args.methods, &points);
+        let picture = plot(&args.methods, &points, &input_title(&args.input));
         super::output::write_atomic(path, |w| w.write_all(picture.as_bytes()))?;
     }
     match args.format {
@@ -491,8 +493,9 @@ fn trim(v: f64) -> String {
     t.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-/// The sweeps as plot panels: ATE RMSE (from the first fix) per method.
-fn plot(methods: &[MethodSpec], points: &[SweepPoint]) -> String {
+/// The sweeps as plot panels: ATE RMSE (from the first fix) per method, titled with `what` was
+/// evaluated.
+fn plot(methods: &[MethodSpec], points: &[SweepPoint], what: &str) -> String {
     let mut panels = Vec::new();
     for (sweep, title) in [
         ("noise", "added noise (σ range / σ bearing)"),
@@ -521,7 +524,8 @@ fn plot(methods: &[MethodSpec], points: &[SweepPoint]) -> String {
             series,
         });
     }
-    sweep::svg(&panels, "ATE RMSE from first fix [m]")
+    let title = format!("Perturbation sweep: {what}");
+    sweep::svg(&panels, &title, "ATE RMSE from first fix [m]")
 }
 
 fn opt(v: Option<f64>, digits: usize) -> String {

@@ -20,7 +20,7 @@ use super::args::{Format, FrameInput, GridArgs, KidnapArgs};
 use super::output::{self, Output};
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::grid::place::map_landmarks;
-use crate::grid::{FuzzyGrid, GridConfig, LandmarkTable};
+use crate::grid::{GridConfig, LandmarkTable};
 use crate::io::landmark_stream;
 use crate::io::mrclam_stream::RecordReader;
 use crate::io::stream::{StreamFormat, StreamReader};
@@ -28,6 +28,7 @@ use crate::io::tum::{write_tum, TumPose};
 use crate::localize::grid::{run as run_grid, GridLocalizer};
 use crate::localize::{Drive, FrameEstimate, Kidnap, MetricFrame, Recovery, RunOptions, RunReport};
 use crate::map::Map;
+use crate::report::grid_svg;
 use crate::syntax::diagnostic::SourceFile;
 use crate::syntax::parse_map;
 
@@ -128,7 +129,7 @@ pub fn run(args: &GridArgs, out: &mut impl Write) -> Result<u8, CliError> {
         }
     };
     if let Some(dir) = &args.svg {
-        write_frames(dir, table, &cfg, frames)?;
+        write_frames(dir, table, &cfg, frames, &input_title(&args.input))?;
     }
     if let Some(s) = &spinner {
         s.finish_and_clear();
@@ -267,6 +268,33 @@ pub(super) fn frame_inputs(input: &FrameInput) -> Vec<(&'static str, &Path)> {
     map.into_iter().chain(stream).collect()
 }
 
+/// What a picture shows, for its title: the data set's folder and the robot (`--from-dir`), or
+/// the stream's folder and file (which names the robot it was extracted for); never a whole
+/// path.
+pub(super) fn input_title(input: &FrameInput) -> String {
+    let full = |p: &Path| {
+        let p = super::data::resolve(p);
+        std::fs::canonicalize(&p).unwrap_or(p)
+    };
+    let name = |p: &Path| p.file_name().map(|n| n.to_string_lossy().into_owned());
+    match (&input.from_dir, input.robot, &input.stream) {
+        (Some(dir), Some(r), _) => {
+            let set = name(&full(dir)).unwrap_or_else(|| dir.display().to_string());
+            format!("data set {set}, robot {r}")
+        }
+        (_, _, Some(s)) if s.as_os_str() == "-" => "stream on standard input".to_string(),
+        (_, _, Some(s)) => {
+            let s = full(s);
+            let file = name(&s).unwrap_or_default();
+            match s.parent().and_then(name) {
+                Some(set) => format!("data set {set}, stream {file}"),
+                None => format!("stream {file}"),
+            }
+        }
+        _ => "no input".to_string(),
+    }
+}
+
 /// An output file's I/O error with the file named in the message (exit 1).
 pub(super) fn output_error(path: &Path, source: std::io::Error) -> CliError {
     CliError::WriteFile {
@@ -344,13 +372,14 @@ fn print_scores(
 /// pictures show the belief shrinking from total ignorance.
 const SVG_TIMES: [f64; 6] = [0.5, 1.0, 2.0, 4.0, 8.0, 16.0];
 
-/// Replays the grid's run (the same [`Drive`] as `localize::grid::run`) and draws the plane at
-/// [`SVG_TIMES`].
+/// Replays the grid's run (the same [`Drive`] as `localize::grid::run`) and writes the plane at
+/// [`SVG_TIMES`], drawn by [`grid_svg::svg`] with `what` was run in the title.
 fn write_frames(
     dir: &Path,
     table: &LandmarkTable,
     cfg: &GridConfig,
     frames: &[MetricFrame],
+    what: &str,
 ) -> Result<(), CliError> {
     output::create_folder(dir)?;
     let mut loc = GridLocalizer::new(table, cfg).map_err(bad)?;
@@ -366,112 +395,10 @@ fn write_frames(
         drive.step(&mut loc, f);
         if f.t - t0 >= SVG_TIMES[next] {
             let path = dir.join(format!("grid-{:03}.svg", next));
-            let truth = f.truth.map(|p| (p.x as f32, p.y as f32, p.theta as f32));
-            let picture = svg(loc.grid(), table, truth, f.t - t0);
+            let picture = grid_svg::svg(loc.grid(), table, f.truth, f.t - t0, what);
             output::write_atomic(&path, |w| w.write_all(picture.as_bytes()))?;
             next += 1;
         }
     }
     Ok(())
-}
-
-/// One grid frame as SVG: grey shade = possibility (black = 1), a short arrow per shown cell
-/// along the centre of its heading set (drawn where the set is narrower than a half turn),
-/// landmarks in red, the truth in blue and the estimate in green.
-fn svg(g: &FuzzyGrid, table: &LandmarkTable, truth: Option<(f32, f32, f32)>, t: f64) -> String {
-    use std::fmt::Write as _;
-    let (nx, ny) = (g.nx(), g.ny());
-    // At most ~120 blocks across, so files stay small; a block shows its brightest cell.
-    let b = (nx.max(ny) / 120).max(1);
-    let px = 4.0f32; // pixels per block
-    let (w, h) = ((nx / b + 1) as f32 * px, (ny / b + 1) as f32 * px);
-    let s = g.cell_size();
-    let (x0, y0) = g.origin();
-    let to_px = |x: f32, y: f32| {
-        (
-            (x - x0) / (s * b as f32) * px,
-            h - (y - y0) / (s * b as f32) * px,
-        )
-    };
-    let mut o = String::new();
-    let _ = writeln!(
-        o,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{}" viewBox="0 0 {w} {}">"#,
-        h + 16.0,
-        h + 16.0
-    );
-    let _ = writeln!(o, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
-    for bj in 0..ny.div_ceil(b) {
-        for bc in 0..nx.div_ceil(b) {
-            let (mut best, mut at) = (0.0f32, (bc * b, bj * b));
-            for j in bj * b..((bj + 1) * b).min(ny) {
-                for c in bc * b..((bc + 1) * b).min(nx) {
-                    let v = g.possibility(c, j);
-                    if v > best {
-                        best = v;
-                        at = (c, j);
-                    }
-                }
-            }
-            if best < 0.02 {
-                continue;
-            }
-            let shade = (255.0 * (1.0 - best)).round() as u8;
-            let (cx, cy) = g.cell_center(at.0, at.1);
-            let (sx, sy) = to_px(cx, cy);
-            let _ = writeln!(
-                o,
-                r#"<rect x="{:.1}" y="{:.1}" width="{px}" height="{px}" fill="rgb({shade},{shade},{shade})"/>"#,
-                sx - 0.5 * px,
-                sy - 0.5 * px
-            );
-            if best >= 0.5 && bc % 3 == 0 && bj % 3 == 0 {
-                if let Some(hs) = g.heading_set(at.0, at.1) {
-                    if hs.core + 2.0 * hs.slope < std::f32::consts::PI {
-                        let l = 2.5 * px;
-                        let (dx, dy) = (l * hs.center.cos(), -l * hs.center.sin());
-                        let _ = writeln!(
-                            o,
-                            r#"<line x1="{sx:.1}" y1="{sy:.1}" x2="{:.1}" y2="{:.1}" stroke="orange" stroke-width="1"/>"#,
-                            sx + dx,
-                            sy + dy
-                        );
-                    }
-                }
-            }
-        }
-    }
-    for m in table.landmarks() {
-        let (sx, sy) = to_px(m.x, m.y);
-        let _ = writeln!(
-            o,
-            r#"<circle cx="{sx:.1}" cy="{sy:.1}" r="3" fill="red"><title>{}</title></circle>"#,
-            m.id
-        );
-    }
-    if let Some((x, y, th)) = truth {
-        let (sx, sy) = to_px(x, y);
-        let _ = writeln!(
-            o,
-            r#"<circle cx="{sx:.1}" cy="{sy:.1}" r="4" fill="none" stroke="blue" stroke-width="1.5"/><line x1="{sx:.1}" y1="{sy:.1}" x2="{:.1}" y2="{:.1}" stroke="blue" stroke-width="1.5"/>"#,
-            sx + 10.0 * th.cos(),
-            sy - 10.0 * th.sin()
-        );
-    }
-    let e = g.estimate();
-    let (sx, sy) = to_px(e.x, e.y);
-    let _ = writeln!(
-        o,
-        r#"<path d="M{:.1},{sy:.1}h8M{sx:.1},{:.1}v8" stroke="green" stroke-width="2"/>"#,
-        sx - 4.0,
-        sy - 4.0
-    );
-    let _ = writeln!(
-        o,
-        r#"<text x="2" y="{:.1}" font-size="11" font-family="sans-serif">t = {t:.1} s, reliability {:.2}</text>"#,
-        h + 12.0,
-        e.reliability
-    );
-    o.push_str("</svg>\n");
-    o
 }

@@ -8,11 +8,17 @@
 //! `run` is the per-frame loop of an evaluated stream (engine, tracker, tally), shared by the
 //! command line and the Python binding.
 //!
-//! Depends on `logic` (decisions, distributions), `engine` (the run's engine and tracker) and
-//! `io::stream` (frame meta data, rejections); nothing depends on it except the command line and
-//! the Python binding.
+//! `grid_svg` draws one frame of the Fuzzy Position Grid (`lplace grid --svg`), `sweep` the
+//! perturbation sweep of `lplace compare`; `axis` holds what the pictures share (round ticks,
+//! the metre scale bar, the possibility colour scale).
+//!
+//! Depends on `logic` (decisions, distributions), `engine` (the run's engine and tracker),
+//! `grid` (the plane drawn by `grid_svg`) and `io::stream` (frame meta data, rejections);
+//! nothing depends on it except the command line and the Python binding.
 
+pub mod axis;
 pub mod batch;
+pub mod grid_svg;
 pub mod html;
 pub mod plot;
 pub mod run;

@@ -1,11 +1,13 @@
 //! The sweep plot of `lplace compare`: error against a perturbation level, one line per method,
 //! in side-by-side panels (added noise, kept fraction) sharing one y axis so that the panels
 //! can be compared at a glance. Levels are categorical (evenly spaced, labelled), as in paper
-//! 001's Figs. 4–5. Pure: it returns the SVG text and does no I/O. Depends on nothing but
-//! [`super::plot`]'s escaping.
+//! 001's Figs. 4–5. The title names what was evaluated (data set, robot), and the y axis spans
+//! the data rather than starting at 0. Pure: it returns the SVG text and does no I/O. Depends
+//! on [`super::axis`] for the ticks and [`super::plot`]'s escaping.
 
 use std::fmt::Write as _;
 
+use super::axis::{format_tick, Ticks};
 use super::plot::xml_escape;
 
 /// One method's values at a panel's levels; `None` where it has none (e.g. never got a fix),
@@ -39,22 +41,10 @@ const COLOURS: [&str; 8] = [
 /// still show both colours.
 const DASHES: [&str; 4] = ["none", "7 4", "2 3", "10 3 2 3"];
 
-/// A "nice" upper bound for an axis from 0 to `max`: 1, 2, 2.5 or 5 times a power of ten (so
-/// that the five tick steps are round numbers too).
-fn nice_ceiling(max: f64) -> f64 {
-    if !(max.is_finite() && max > 0.0) {
-        return 1.0;
-    }
-    let p = 10f64.powf(max.log10().floor());
-    [1.0, 2.0, 2.5, 5.0, 10.0]
-        .into_iter()
-        .map(|m| m * p)
-        .find(|v| *v >= max)
-        .unwrap_or(10.0 * p)
-}
-
-/// Renders `panels` side by side with a shared y axis labelled `y_label`, from 0 to a rounded
-/// maximum of the finite values. Non-finite values are treated as missing.
+/// Renders `panels` side by side under `title` with a shared y axis labelled `y_label`. The
+/// axis runs between round ticks a little below the smallest and a little above the largest
+/// finite value (from 0 only when the values come near 0), so that differences between the
+/// methods fill the height. Non-finite values are treated as missing.
 ///
 /// # Example
 /// ```
@@ -64,24 +54,16 @@ fn nice_ceiling(max: f64) -> f64 {
 ///     levels: vec!["0".into(), "1".into()],
 ///     series: vec![Series { name: "fpg".into(), values: vec![Some(0.2), None] }],
 /// };
-/// let s = svg(&[p], "ATE RMSE [m]");
+/// let s = svg(&[p], "robot 1", "ATE RMSE [m]");
 /// assert!(s.starts_with("<svg") && s.contains("fpg") && s.ends_with("</svg>\n"));
 /// ```
-pub fn svg(panels: &[Panel], y_label: &str) -> String {
+pub fn svg(panels: &[Panel], title: &str, y_label: &str) -> String {
     let (pw, ph) = (360.0, 260.0); // panel plot area
-    let (left, top, gap, bottom) = (64.0, 56.0, 48.0, 64.0);
+    let (left, top, gap, bottom) = (64.0, 80.0, 48.0, 64.0);
     let n = panels.len().max(1) as f64;
     let width = left + n * pw + (n - 1.0) * gap + 20.0;
     let height = top + ph + bottom;
-    let ymax = nice_ceiling(
-        panels
-            .iter()
-            .flat_map(|p| &p.series)
-            .flat_map(|s| s.values.iter().flatten())
-            .copied()
-            .filter(|v| v.is_finite())
-            .fold(0.0, f64::max),
-    );
+    let ticks = y_ticks(panels);
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -89,11 +71,12 @@ pub fn svg(panels: &[Panel], y_label: &str) -> String {
     );
     let _ = writeln!(
         s,
-        r##"<rect width="{width}" height="{height}" fill="white"/>"##
+        r##"<rect width="{width}" height="{height}" fill="white"/><text class="title" x="{left}" y="20" font-size="14">{}</text>"##,
+        xml_escape(title)
     );
     // Legend: the series names of the first panel (all panels show the same methods).
     if let Some(first) = panels.first() {
-        legend(&mut s, first, left);
+        legend(&mut s, first, left, 42.0);
     }
     let _ = writeln!(
         s,
@@ -107,7 +90,7 @@ pub fn svg(panels: &[Panel], y_label: &str) -> String {
             top,
             pw,
             ph,
-            ymax,
+            ticks,
             m: panel.levels.len().max(1),
         };
         draw_panel(&mut s, panel, &area);
@@ -116,19 +99,50 @@ pub fn svg(panels: &[Panel], y_label: &str) -> String {
     s
 }
 
-/// One panel's plot area in pixels, its y range `[0, ymax]` and its number of level slots.
+/// The y axis's ticks: the finite values' range padded by 5 % of its span on each side (by a
+/// tenth of the value when they are all equal), the lower end kept at or above 0 when every
+/// value is (errors are never negative).
+fn y_ticks(panels: &[Panel]) -> Ticks {
+    let values = panels
+        .iter()
+        .flat_map(|p| &p.series)
+        .flat_map(|s| s.values.iter().flatten())
+        .copied()
+        .filter(|v| v.is_finite());
+    let (min, max) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+        (a.min(v), b.max(v))
+    });
+    if !(min.is_finite() && max.is_finite()) {
+        return Ticks::cover(0.0, 1.0, 5);
+    }
+    let pad = match max - min {
+        d if d > 0.0 => 0.05 * d,
+        _ if max == 0.0 => 0.5,
+        _ => 0.1 * max.abs(),
+    };
+    let lo = if min >= 0.0 {
+        (min - pad).max(0.0)
+    } else {
+        min - pad
+    };
+    Ticks::cover(lo, max + pad, 5)
+}
+
+/// One panel's plot area in pixels, its y ticks (whose ends are the area's bottom and top)
+/// and its number of level slots.
 struct Area {
     x0: f64,
     top: f64,
     pw: f64,
     ph: f64,
-    ymax: f64,
+    ticks: Ticks,
     m: usize,
 }
 
 impl Area {
     fn y_of(&self, v: f64) -> f64 {
-        self.top + self.ph * (1.0 - v / self.ymax)
+        let (lo, hi) = (self.ticks.lo, self.ticks.hi);
+        self.top + self.ph * (hi - v) / (hi - lo)
     }
 
     /// Levels sit at the centres of `m` equal slots.
@@ -137,17 +151,18 @@ impl Area {
     }
 }
 
-/// A line sample and name per series, in a row at the top.
-fn legend(s: &mut String, panel: &Panel, left: f64) {
+/// A line sample and name per series, in a row at height `y`.
+fn legend(s: &mut String, panel: &Panel, left: f64, y: f64) {
     for (k, ser) in panel.series.iter().enumerate() {
         let x = left + 110.0 * k as f64;
         let c = COLOURS[k % COLOURS.len()];
         let d = DASHES[k % DASHES.len()];
         let _ = writeln!(
             s,
-            r##"<line x1="{x}" y1="16" x2="{}" y2="16" stroke="{c}" stroke-width="2.5" stroke-dasharray="{d}"/><text x="{}" y="20">{}</text>"##,
+            r##"<line x1="{x}" y1="{y}" x2="{}" y2="{y}" stroke="{c}" stroke-width="2.5" stroke-dasharray="{d}"/><text x="{}" y="{}">{}</text>"##,
             x + 24.0,
             x + 30.0,
+            y + 4.0,
             xml_escape(&ser.name)
         );
     }
@@ -167,12 +182,11 @@ fn draw_panel(s: &mut String, panel: &Panel, a: &Area) {
         top - 10.0,
         xml_escape(&panel.title)
     );
-    for t in 0..=5 {
-        let v = a.ymax * t as f64 / 5.0;
+    for v in a.ticks.values() {
         let y = a.y_of(v);
         let _ = writeln!(
             s,
-            r##"<line x1="{x0}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end" font-size="10">{}</text>"##,
+            r##"<line x1="{x0}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/><text class="y-tick" x="{}" y="{:.1}" text-anchor="end" font-size="10">{}</text>"##,
             x0 + pw,
             x0 - 4.0,
             y + 3.0,
@@ -221,26 +235,9 @@ fn draw_series(s: &mut String, ser: &Series, si: usize, a: &Area) {
     }
 }
 
-/// A tick value with no more digits than it needs.
-fn format_tick(v: f64) -> String {
-    let t = format!("{v:.3}");
-    t.trim_end_matches('0').trim_end_matches('.').to_string()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn nice_ceiling_rounds_up_to_1_2_2half_5() {
-        assert_eq!(nice_ceiling(0.0), 1.0);
-        assert_eq!(nice_ceiling(f64::NAN), 1.0);
-        assert!((nice_ceiling(0.28) - 0.5).abs() < 1e-12);
-        assert!((nice_ceiling(1.2) - 2.0).abs() < 1e-12);
-        assert!((nice_ceiling(2.0) - 2.0).abs() < 1e-12);
-        assert!((nice_ceiling(2.06) - 2.5).abs() < 1e-12);
-        assert!((nice_ceiling(7.0) - 10.0).abs() < 1e-12);
-    }
 
     #[test]
     fn gaps_break_lines_and_every_value_gets_a_dot() {
@@ -252,11 +249,64 @@ mod tests {
                 values: vec![Some(1.0), Some(2.0), None, Some(f64::NAN)],
             }],
         };
-        let s = svg(&[p], "y");
+        let s = svg(&[p], "robot <1>", "y");
         assert_eq!(s.matches("<polyline").count(), 1);
         assert_eq!(s.matches("<circle").count(), 2);
-        assert!(s.contains("a&lt;b"));
-        // 2.0 is the top of the axis: its dot sits on the panel's top edge (y = 56).
-        assert!(s.contains(r#"cy="56.0""#), "{s}");
+        assert!(s.contains("a&lt;b") && s.contains("robot &lt;1&gt;"));
+    }
+
+    /// The height of each y tick and its label's value, from the picture.
+    fn tick_labels(s: &str) -> Vec<(f64, f64)> {
+        s.lines()
+            .filter_map(|l| {
+                // The tick's grid line comes first on its line: its height is the tick's.
+                let at = l.find(r#"class="y-tick""#)?;
+                let y = l.split(r#"y1=""#).nth(1)?.split('"').next()?;
+                let v = l[at..].split('>').nth(1)?.split('<').next()?;
+                Some((y.parse().ok()?, v.parse().ok()?))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_y_axis_fits_the_data_not_zero() {
+        let values = [2.13, 2.61, 2.4];
+        let p = Panel {
+            title: "t".into(),
+            levels: (0..3).map(|k| k.to_string()).collect(),
+            series: vec![Series {
+                name: "m".into(),
+                values: values.iter().map(|v| Some(*v)).collect(),
+            }],
+        };
+        let s = svg(&[p], "title", "y");
+        let ticks = tick_labels(&s);
+        let lo = ticks.iter().map(|t| t.1).fold(f64::INFINITY, f64::min);
+        let hi = ticks.iter().map(|t| t.1).fold(f64::NEG_INFINITY, f64::max);
+        assert!(lo <= 2.13 && hi >= 2.61, "{ticks:?}");
+        assert!(lo >= 0.5 * 2.13, "the axis starts at {lo}: {ticks:?}");
+        // Each dot's height is where the tick labels' linear scale puts its value.
+        let (a, b) = (ticks[0], ticks[ticks.len() - 1]);
+        for v in values {
+            let y = a.0 + (v - a.1) * (b.0 - a.0) / (b.1 - a.1);
+            assert!(s.contains(&format!(r#"cy="{y:.1}""#)), "{v} at {y}: {s}");
+        }
+    }
+
+    #[test]
+    fn values_near_zero_keep_zero_and_none_give_a_unit_axis() {
+        let p = |values: Vec<Option<f64>>| Panel {
+            title: "t".into(),
+            levels: vec!["a".into(), "b".into()],
+            series: vec![Series {
+                name: "m".into(),
+                values,
+            }],
+        };
+        let near = tick_labels(&svg(&[p(vec![Some(0.02), Some(0.9)])], "t", "y"));
+        assert_eq!(near.first().map(|t| t.1), Some(0.0), "{near:?}");
+        let none = tick_labels(&svg(&[p(vec![None, Some(f64::NAN)])], "t", "y"));
+        assert_eq!(none.first().map(|t| t.1), Some(0.0), "{none:?}");
+        assert_eq!(none.last().map(|t| t.1), Some(1.0), "{none:?}");
     }
 }

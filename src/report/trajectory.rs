@@ -3,10 +3,12 @@
 //! the decision — right (green), wrong (red) or disoriented (grey) — under a title with the
 //! counts, with a metre scale bar below. Place labels are moved off each other greedily (places
 //! closer than a label's width would print their names on top of each other). Pure: it returns
-//! the SVG text and does no I/O. Depends on `map` only.
+//! the SVG text and does no I/O. Depends on `map`, and on [`super::axis`] for the bar.
 
 use std::fmt::Write as _;
 
+use super::axis::scale_bar;
+use super::plot::xml_escape;
 use crate::map::{Extent, Map};
 
 /// How one frame's decision compares with the truth.
@@ -82,7 +84,7 @@ pub fn svg(map: &Map, points: &[TrajectoryPoint], scale: f64, title: &str) -> St
     let _ = writeln!(
         s,
         r##"<text x="8" y="16" font-size="14">{}</text><text x="8" y="32"><tspan fill="{}">● right {}</tspan>  <tspan fill="{}">● wrong {}</tspan>  <tspan fill="{}">● disoriented {}</tspan></text>"##,
-        escape(title),
+        xml_escape(title),
         Verdict::Right.colour(),
         counts(Verdict::Right),
         Verdict::Wrong.colour(),
@@ -111,11 +113,11 @@ pub fn svg(map: &Map, points: &[TrajectoryPoint], scale: f64, title: &str) -> St
             r##"<text class="place-label" x="{:.1}" y="{:.1}" text-anchor="middle" fill="#08306b">{}</text>"##,
             b.x,
             b.y,
-            escape(&p.name)
+            xml_escape(&p.name)
         );
         placed.push(b);
     }
-    scale_bar(&mut s, x1 - x0, scale, h - footer / 2.0);
+    scale_bar(&mut s, 10.0, h - footer / 2.0, x1 - x0, scale);
     s.push_str("</svg>\n");
     s
 }
@@ -172,37 +174,6 @@ fn place_label(x: f64, y: f64, name: &str, placed: &[LabelBox]) -> LabelBox {
         .map(|k| at(0.0, LINE_PX * k as f64))
         .find(free)
         .unwrap_or_else(|| at(0.0, LINE_PX * last as f64))
-}
-
-/// The longest 1, 2 or 5 × 10ⁿ metres not over a fifth of `width_m` (a bar that reads at a
-/// glance and never dominates the picture).
-pub fn scale_bar_metres(width_m: f64) -> f64 {
-    let target = (width_m / 5.0).max(1e-3);
-    let base = 10f64.powf(target.log10().floor());
-    [5.0, 2.0, 1.0]
-        .into_iter()
-        .map(|m| m * base)
-        .find(|l| *l <= target * (1.0 + 1e-9))
-        .unwrap_or(base)
-}
-
-/// A metre scale bar at the bottom left, its baseline at `y` pixels.
-fn scale_bar(s: &mut String, width_m: f64, scale: f64, y: f64) {
-    let metres = scale_bar_metres(width_m);
-    let (x0, x1) = (10.0, 10.0 + metres * scale);
-    let label = if metres >= 1.0 {
-        format!("{metres:.0} m")
-    } else {
-        format!("{metres} m")
-    };
-    let _ = writeln!(
-        s,
-        r##"<g class="scale-bar" stroke="black" stroke-width="2"><line x1="{x0:.1}" y1="{y:.1}" x2="{x1:.1}" y2="{y:.1}"/><line x1="{x0:.1}" y1="{:.1}" x2="{x0:.1}" y2="{y:.1}"/><line x1="{x1:.1}" y1="{:.1}" x2="{x1:.1}" y2="{y:.1}"/></g><text x="{:.1}" y="{:.1}">{label}</text>"##,
-        y - 5.0,
-        y - 5.0,
-        x1 + 6.0,
-        y + 4.0
-    );
 }
 
 /// The smallest box `(x0, y0, x1, y1)` holding every place extent and every finite point;
@@ -300,11 +271,4 @@ fn draw_map(s: &mut String, map: &Map, c: &Canvas) {
             }
         }
     }
-}
-
-fn escape(t: &str) -> String {
-    t.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }

@@ -169,3 +169,369 @@ fn trajectory_has_scale_bar_title_and_separate_labels() {
         }
     }
 }
+
+/// Three landmarks around a robot standing at (1, 1) facing +x (as cli_grid's).
+const TINY_MAP: &str = "map tiny;\n\
+landmark A at (0.0, 0.0) id 1;\n\
+landmark B at (3.0, 0.0) id 2;\n\
+landmark C at (0.0, 2.0) id 3;\n\
+place Middle spot at (1.0, 1.0) extent radius 0.5;\n";
+
+/// `(x, y)` of each `landmark … at (x, y) id N` line of a map text, in id order.
+fn map_landmarks(map: &str) -> Vec<(f64, f64)> {
+    let mut out: Vec<(u32, f64, f64)> = map
+        .lines()
+        .filter_map(|l| {
+            let l = l.trim().strip_prefix("landmark ")?;
+            let (at, id) = l.split_once(") id ")?;
+            let (x, y) = at.split_once("at (")?.1.split_once(',')?;
+            Some((
+                id.trim_end_matches(';').trim().parse().ok()?,
+                x.trim().parse().ok()?,
+                y.trim().parse().ok()?,
+            ))
+        })
+        .collect();
+    out.sort_by_key(|m| m.0);
+    out.into_iter().map(|(_, x, y)| (x, y)).collect()
+}
+
+/// A frame at `t` of the robot at (1, 1) reading the tiny map's landmarks exactly; its truth
+/// says it stands at `truth`.
+fn tiny_frame(t: f64, truth: (f64, f64)) -> String {
+    let mut p = Vec::new();
+    for (name, lx, ly) in [("A", 0.0f64, 0.0f64), ("B", 3.0, 0.0), ("C", 0.0, 2.0)] {
+        let (dx, dy) = (lx - 1.0, ly - 1.0);
+        p.push(format!(
+            r#"{{"name":"landmark_range","args":["{name}"],"value":{},"degree":1.0}},{{"name":"landmark_bearing","args":["{name}"],"value":{},"degree":1.0}}"#,
+            dx.hypot(dy),
+            dy.atan2(dx).to_degrees()
+        ));
+    }
+    format!(
+        r#"{{"version":1,"t":{t},"odometry":{{"dx":0,"dy":0,"dtheta":0}},"percepts":[{}],"truth":{{"pose":[{},{},0.0]}}}}"#,
+        p.join(","),
+        truth.0,
+        truth.1
+    )
+}
+
+/// The `viewBox="0 0 W H"` of an SVG's root element.
+fn view_box(els: &[(String, String, String)]) -> (f64, f64) {
+    let root = &els[0].1;
+    let vb = root.split("viewBox=\"").nth(1).expect("a viewBox");
+    let n: Vec<f64> = vb
+        .split('"')
+        .next()
+        .unwrap_or("")
+        .split_whitespace()
+        .map(|v| v.parse().expect("a number"))
+        .collect();
+    assert_eq!(&n[..2], &[0.0, 0.0], "{root}");
+    (n[2], n[3])
+}
+
+/// A linear map value → pixel fitted through the axis's tick labels: each label (class `cls`)
+/// follows its tick mark, a line whose `coord` (x1 or y1) is the value's position. Every label
+/// is checked to lie on the fitted line, so the ticks are evenly spaced in metres.
+fn axis_fit(els: &[(String, String, String)], cls: &str, coord: &str) -> (f64, f64) {
+    let ticks: Vec<(f64, f64)> = els
+        .windows(2)
+        .filter(|w| w[1].0 == "text" && w[1].1.contains(&format!("class=\"{cls}\"")))
+        .map(|w| {
+            assert_eq!(w[0].0, "line", "a tick mark before {}", w[1].2);
+            let v: f64 = w[1].2.parse().expect("a tick label is a number of metres");
+            (v, attr(&w[0].1, coord).expect("tick position"))
+        })
+        .collect();
+    assert!(ticks.len() >= 2, "{cls}: {ticks:?}");
+    let (a, b) = (ticks[0], ticks[ticks.len() - 1]);
+    let k = (b.1 - a.1) / (b.0 - a.0);
+    for t in &ticks {
+        assert!(
+            (a.1 + k * (t.0 - a.0) - t.1).abs() < 0.2,
+            "{cls}: {ticks:?}"
+        );
+    }
+    (k, a.1 - k * a.0)
+}
+
+/// The elements from the `<g class="{cls}">` start tag to the next `<g>`.
+fn group<'a>(els: &'a [(String, String, String)], cls: &str) -> &'a [(String, String, String)] {
+    let at = els
+        .iter()
+        .position(|(n, t, _)| n == "g" && t.contains(&format!("class=\"{cls}\"")))
+        .unwrap_or_else(|| panic!("a group of class {cls}"));
+    let end = els[at + 1..]
+        .iter()
+        .position(|(n, _, _)| n == "g")
+        .map_or(els.len(), |e| at + 1 + e);
+    &els[at + 1..end]
+}
+
+/// Checks one `lplace grid --svg` picture drawn over `marks` (metres, id order): metre axes
+/// that agree with where the landmarks are drawn, a legend with the possibility scale and
+/// every mark, a scale bar as long as it says, and every belief cell and landmark inside the
+/// viewBox.
+fn check_grid_picture(svg: &str, marks: &[(f64, f64)]) {
+    let els = elements(svg);
+    let (w, h) = view_box(&els);
+    let inside =
+        |x: f64, y: f64| (-0.01..=w + 0.01).contains(&x) && (-0.01..=h + 0.01).contains(&y);
+    let (kx, bx) = axis_fit(&els, "x-tick", "x1");
+    let (ky, by) = axis_fit(&els, "y-tick", "y1");
+    // Metres are square on the page, y up.
+    assert!(kx > 0.0 && (ky + kx).abs() < 0.01 * kx, "{kx} {ky}");
+    let dots: Vec<(f64, f64, f64)> = els
+        .iter()
+        .filter(|(n, t, _)| n == "circle" && t.contains("class=\"landmark\""))
+        .map(|(_, t, _)| {
+            (
+                attr(t, "cx").unwrap(),
+                attr(t, "cy").unwrap(),
+                attr(t, "r").unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(dots.len(), marks.len());
+    for (&(x, y), &(cx, cy, r)) in marks.iter().zip(&dots) {
+        assert!(
+            (kx * x + bx - cx).abs() < 0.2 && (ky * y + by - cy).abs() < 0.2,
+            "{x},{y}"
+        );
+        assert!(
+            inside(cx - r, cy - r) && inside(cx + r, cy + r),
+            "landmark {x},{y} clipped"
+        );
+    }
+    let cells: Vec<&(String, String, String)> = group(&els, "belief")
+        .iter()
+        .filter(|e| e.0 == "rect")
+        .collect();
+    assert!(!cells.is_empty(), "no belief drawn");
+    for (_, t, _) in cells
+        .iter()
+        .copied()
+        .chain(els.iter().filter(|e| e.1.contains("class=\"extent\"")))
+    {
+        let (x, y) = (attr(t, "x").unwrap(), attr(t, "y").unwrap());
+        let (cw, ch) = (attr(t, "width").unwrap(), attr(t, "height").unwrap());
+        assert!(inside(x, y) && inside(x + cw, y + ch), "clipped: {t}");
+    }
+    let legend = group(&els, "legend");
+    let ramp: Vec<f64> = legend
+        .iter()
+        .filter(|(n, t, _)| n == "rect" && t.contains("class=\"swatch\""))
+        .map(|(_, t, _)| attr(t, "fill-opacity").unwrap())
+        .collect();
+    assert!(
+        ramp.len() >= 5 && ramp.windows(2).all(|p| p[0] < p[1]),
+        "{ramp:?}"
+    );
+    let words: Vec<&str> = els
+        .iter()
+        .filter(|e| e.0 == "text")
+        .map(|e| e.2.as_str())
+        .collect();
+    for word in ["0", "1", "landmark (id)", "estimate", "x [m]", "y [m]"] {
+        assert!(words.contains(&word), "no text {word}");
+    }
+    let bar = group(&els, "scale-bar");
+    let len = attr(&bar[0].1, "x2").unwrap() - attr(&bar[0].1, "x1").unwrap();
+    let label = els
+        .iter()
+        .skip_while(|(n, t, _)| !(n == "g" && t.contains("scale-bar")))
+        .find(|e| e.0 == "text")
+        .expect("the bar's label");
+    let metres: f64 = label.2.trim_end_matches(" m").parse().expect("N m");
+    assert!(
+        (len - metres * kx).abs() < 0.5,
+        "bar {len} px for {metres} m"
+    );
+}
+
+#[test]
+fn grid_frames_have_metre_axes_a_legend_and_nothing_clipped() {
+    let d = crate::support::scratch("cli_pictures", "grid");
+    let map = d.join("tiny.map");
+    std::fs::write(&map, TINY_MAP).unwrap();
+    let lines: Vec<String> = (0..5)
+        .map(|k| tiny_frame(k as f64 * 1.5, (1.0, 1.0)))
+        .collect();
+    let stream = d.join("s.jsonl");
+    std::fs::write(&stream, lines.join("\n") + "\n").unwrap();
+    // A grid smaller than the landmarks' spread: they must still be drawn, not clipped.
+    let config = d.join("small.ron");
+    std::fs::write(&config, "(bounds: Some((0.5, 0.5, 2.0, 1.5)))\n").unwrap();
+    for (name, extra) in [("default", None), ("small", Some(&config))] {
+        let svg = d.join(name);
+        let mut cmd = lplace();
+        cmd.arg("grid")
+            .arg("--map")
+            .arg(&map)
+            .arg(&stream)
+            .arg("--svg")
+            .arg(&svg);
+        if let Some(c) = extra {
+            cmd.arg("--config").arg(c);
+        }
+        cmd.assert().success();
+        // The first picture is of the first frame at least 0.5 s after the first: t = 1.5 s.
+        let first = std::fs::read_to_string(svg.join("grid-000.svg")).expect("a picture");
+        let els = elements(&first);
+        let title = els
+            .iter()
+            .find(|e| e.1.contains("class=\"title\""))
+            .expect("a title");
+        assert!(title.2.contains("t = 1.5 s"), "{}", title.2);
+        assert!(
+            els.iter().any(|e| e.2 == "data set grid, stream s.jsonl"),
+            "the input is named: {first}"
+        );
+        assert!(
+            els.iter().any(|e| e.2 == "true pose"),
+            "the stream has truth"
+        );
+        for f in std::fs::read_dir(&svg).unwrap() {
+            let text = std::fs::read_to_string(f.unwrap().path()).unwrap();
+            check_grid_picture(&text, &map_landmarks(TINY_MAP));
+        }
+    }
+}
+
+#[test]
+fn mrclam_robot1_grid_pictures_are_readable() {
+    let Some(dir) = crate::support::mrclam_dir() else {
+        return;
+    };
+    let d = crate::support::scratch("cli_pictures", "mrclam_grid");
+    let svg = d.join("svg");
+    lplace()
+        .arg("grid")
+        .arg("--from-dir")
+        .arg(&dir)
+        .args(["--robot", "1"])
+        .arg("--svg")
+        .arg(&svg)
+        .assert()
+        .success();
+    let root = env!("CARGO_MANIFEST_DIR");
+    let map = std::fs::read_to_string(format!("{root}/maps/mrclam.map")).expect("bundled map");
+    let marks = map_landmarks(&map);
+    assert!(marks.len() >= 10, "{marks:?}");
+    let set = dir.file_name().unwrap().to_string_lossy().into_owned();
+    let mut drawn = 0;
+    for f in std::fs::read_dir(&svg).unwrap() {
+        let text = std::fs::read_to_string(f.unwrap().path()).unwrap();
+        check_grid_picture(&text, &marks);
+        let what = format!(">data set {set}, robot 1<");
+        assert!(text.contains(&what), "{what} is not a heading");
+        drawn += 1;
+    }
+    assert_eq!(drawn, 6, "one picture per time of `--svg`");
+}
+
+/// The y tick values of a sweep picture and its title.
+fn sweep_axis(svg: &str) -> (Vec<f64>, String) {
+    let els = elements(svg);
+    let ticks = els
+        .iter()
+        .filter(|(n, t, _)| n == "text" && t.contains("class=\"y-tick\""))
+        .map(|e| e.2.parse().expect("a tick label is a number"))
+        .collect();
+    let title = els
+        .iter()
+        .find(|e| e.1.contains("class=\"title\""))
+        .map(|e| e.2.clone())
+        .expect("a title");
+    (ticks, title)
+}
+
+/// Checks that the y ticks cover `values` and, when the values are far from 0 (the largest at
+/// most twice the smallest), that the axis starts at no less than half the smallest.
+fn check_sweep_axis(ticks: &[f64], values: &[f64]) {
+    let lo = ticks.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = ticks.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let min = values.iter().copied().fold(f64::INFINITY, f64::min);
+    let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    assert!(!values.is_empty());
+    assert!(lo <= min && hi >= max, "axis {lo}..{hi}, data {min}..{max}");
+    if max <= 2.0 * min {
+        assert!(lo >= 0.5 * min, "axis from {lo} for data from {min}");
+    }
+}
+
+/// The ATE RMSE column of `lplace compare --format csv`'s sweep rows (the plotted values).
+fn sweep_values(csv: &str) -> Vec<f64> {
+    let header: Vec<&str> = csv.lines().next().unwrap_or("").split(',').collect();
+    let col = header
+        .iter()
+        .position(|c| *c == "ate_rmse_m")
+        .expect("an ate_rmse_m column");
+    csv.lines()
+        .skip(1)
+        .filter(|l| !l.split(',').nth(1).is_some_and(|s| s == "main"))
+        .filter_map(|l| l.split(',').nth(col)?.parse().ok())
+        .collect()
+}
+
+#[test]
+fn sweep_axis_fits_the_data_and_the_title_names_the_data_set() {
+    let d = crate::support::scratch("cli_pictures", "set-west");
+    let map = d.join("tiny.map");
+    std::fs::write(&map, TINY_MAP).unwrap();
+    // The truth half a metre east of where the readings put the robot: every error is about
+    // 0.5 m, far from 0.
+    let lines: Vec<String> = (0..12).map(|k| tiny_frame(k as f64, (1.5, 1.0))).collect();
+    let stream = d.join("robot9.jsonl");
+    std::fs::write(&stream, lines.join("\n") + "\n").unwrap();
+    let svg = d.join("sweep.svg");
+    let csv = lplace()
+        .arg("compare")
+        .arg("--map")
+        .arg(&map)
+        .arg(&stream)
+        .args(["--methods", "fpg", "--format", "csv", "--sweep", "both"])
+        .arg("--svg")
+        .arg(&svg)
+        .assert()
+        .code(0)
+        .get_output()
+        .stdout
+        .clone();
+    let values = sweep_values(&String::from_utf8(csv).unwrap());
+    assert!(values.iter().all(|v| *v > 0.3), "{values:?}");
+    let (ticks, title) = sweep_axis(&std::fs::read_to_string(&svg).unwrap());
+    check_sweep_axis(&ticks, &values);
+    assert!(
+        title.contains("set-west") && title.contains("robot9.jsonl"),
+        "{title}"
+    );
+    assert!(!title.contains('/') && !title.contains('\\'), "{title}");
+}
+
+#[test]
+fn mrclam_robot1_sweep_names_data_set_and_robot() {
+    let Some(dir) = crate::support::mrclam_dir() else {
+        return;
+    };
+    let d = crate::support::scratch("cli_pictures", "mrclam_sweep");
+    let svg = d.join("sweep.svg");
+    let csv = lplace()
+        .arg("compare")
+        .arg("--from-dir")
+        .arg(&dir)
+        .args(["--robot", "1", "--methods", "fpg", "--format", "csv"])
+        .args(["--sweep", "sparsity", "--svg"])
+        .arg(&svg)
+        .assert()
+        .code(0)
+        .get_output()
+        .stdout
+        .clone();
+    let values = sweep_values(&String::from_utf8(csv).unwrap());
+    let (ticks, title) = sweep_axis(&std::fs::read_to_string(&svg).unwrap());
+    check_sweep_axis(&ticks, &values);
+    let set = dir.file_name().unwrap().to_string_lossy().into_owned();
+    assert!(title.contains(&set) && title.contains("robot 1"), "{title}");
+}

@@ -10,6 +10,7 @@ use std::fmt::Write as _;
 
 use crate::engine::grid_tracker::GridTracker;
 use crate::map::{Extent, Map};
+use crate::report::axis::{possibility_level, POSSIBILITY_FILL};
 use crate::report::plot::xml_escape;
 
 /// Most belief planes kept per run (the last frame's comes on top).
@@ -191,13 +192,7 @@ pub fn svg(snap: &BeliefSnapshot, map: &Map) -> String {
 
 /// The shaded cells, one rectangle per horizontal run of cells of one shade.
 fn cells(s: &mut String, snap: &BeliefSnapshot, nx: usize, ny: usize) {
-    let shade = |v: f32| -> u8 {
-        if v.is_finite() {
-            (v.clamp(0.0, 1.0) * 10.0).round() as u8
-        } else {
-            0
-        }
-    };
+    let shade = possibility_level;
     for row in 0..ny {
         let mut col = 0;
         while col < nx {
@@ -211,7 +206,7 @@ fn cells(s: &mut String, snap: &BeliefSnapshot, nx: usize, ny: usize) {
             if level > 0 {
                 let _ = writeln!(
                     s,
-                    r##"<rect x="{start}" y="{}" width="{}" height="1" fill="#08519c" fill-opacity="{:.1}"/>"##,
+                    r##"<rect x="{start}" y="{}" width="{}" height="1" fill="{POSSIBILITY_FILL}" fill-opacity="{:.1}"/>"##,
                     ny - 1 - row,
                     col - start,
                     f64::from(level) / 10.0
