@@ -1,7 +1,8 @@
 //! Functions a reader can hold: no `fn` in `src/` spans more than [`LIMIT`] lines, counted from
 //! the line of `fn` to the line of its closing brace. `#[cfg(test)]` items are not counted (tests
-//! may be long tables of cases). The scanner blanks comments and string/char literals first, so a
-//! brace inside `"{"` or `// }` does not move a body's end.
+//! may be long tables of cases), nor are the listed [`TABLES`] (one `match` from each case to
+//! its value). The scanner blanks comments and string/char literals first, so a brace inside
+//! `"{"` or `// }` does not move a body's end.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -143,7 +144,7 @@ fn raw_or_byte_string_end(b: &[u8], i: usize) -> Option<usize> {
         return None;
     }
     let close: Vec<u8> = std::iter::once(b'"')
-        .chain(std::iter::repeat_n(b'#', hashes))
+        .chain(std::iter::repeat(b'#').take(hashes))
         .collect();
     let body = j + hashes + 1;
     Some(
@@ -188,7 +189,7 @@ fn is_ident(c: u8) -> bool {
 fn word_at(code: &[u8], at: usize, word: &[u8]) -> bool {
     code[at..].starts_with(word)
         && (at == 0 || !is_ident(code[at - 1]))
-        && code.get(at + word.len()).is_none_or(|&c| !is_ident(c))
+        && code.get(at + word.len()).map_or(true, |&c| !is_ident(c))
 }
 
 /// Every `fn` item with a body in `src`, outside `#[cfg(test)]` items, with its length in lines.
