@@ -19,6 +19,7 @@ use std::time::{Duration, Instant};
 use super::args::{CompareArgs, Format, SweepKind};
 use super::grid::{
     bad, input_title, kidnap, load_frames, output_error, read_config, write_trajectory,
+    LoadedFrames,
 };
 use super::{CliError, EXIT_OK, EXIT_REJECTED};
 use crate::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
@@ -26,7 +27,8 @@ use crate::grid::{GridConfig, LandmarkTable};
 use crate::localize::grid::GridLocalizer;
 use crate::localize::perturb::{perturb, Perturbation, KEEP_LEVELS, NOISE_LEVELS};
 use crate::localize::{
-    common_window_start, AteStats, Drive, Localizer, MetricFrame, Recovery, RunOptions, RunReport,
+    common_window_start, AteStats, Drive, Kidnap, Localizer, MetricFrame, Recovery, RunOptions,
+    RunReport,
 };
 use crate::report::sweep::{self, Panel, Series};
 
@@ -274,15 +276,7 @@ fn check_outputs(args: &CompareArgs) -> Result<(), CliError> {
 /// [`CliError::Read`] when a file cannot be read, [`CliError::Diagnostics`] for a bad map,
 /// configuration or flag (printed first), [`CliError::Write`] when an output fails.
 pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
-    let mut seen = std::collections::BTreeSet::new();
-    for m in &args.methods {
-        if !seen.insert(m.file_name()) {
-            return Err(bad(format!("--methods: `{m}` is given twice")));
-        }
-    }
-    if args.methods.is_empty() {
-        return Err(bad("--methods: no method given"));
-    }
+    check_methods(&args.methods)?;
     let grid = match &args.config {
         None => GridConfig::from_ron(GRID_CONFIG).map_err(bad)?,
         Some(p) => read_config(p, GridConfig::from_ron)?,
@@ -290,90 +284,13 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
     grid.validate().map_err(bad)?;
     check_outputs(args)?;
     let input = load_frames(&args.input)?;
-    let (table, frames) = (&input.table, &input.frames);
-    let bounds = match grid.bounds {
-        Some(b) => b,
-        None => table
-            .bounds(grid.margin)
-            .ok_or_else(|| bad("the map has no landmark with an id"))?,
-    };
-    let setup = Setup {
-        table,
-        grid: &grid,
-        pf: match &args.pf_config {
-            None => PfConfig::from_ron(PF_CONFIG).map_err(bad)?,
-            Some(p) => read_config(p, PfConfig::from_ron)?,
-        },
-        rmcl: match &args.rmcl_config {
-            None => RmclConfig::from_ron(RMCL_CONFIG).map_err(bad)?,
-            Some(p) => read_config(p, RmclConfig::from_ron)?,
-        },
-        bounds,
-        seed: args.seed,
-    };
+    let frames = &input.frames;
+    let setup = setup(args, &input.table, &grid)?;
     let kidnapped = kidnap(&args.kidnap, frames)?;
     if let Some(dir) = &args.tum_dir {
         std::fs::create_dir_all(dir).map_err(|e| output_error(dir, e))?;
     }
-    let mut rows = Vec::new();
-    let mut reports = Vec::new();
-    let bar = super::progress::steps(args.methods.len() as u64, "methods");
-    for &m in &args.methods {
-        if let Some(b) = &bar {
-            b.inc(1);
-        }
-        let Ran { report, took, rmcl } = run_method(m, &setup, frames, &RunOptions::default())?;
-        if let Some(dir) = &args.tum_dir {
-            write_trajectory(&dir.join(m.file_name()), &report.frames)?;
-        }
-        let recovery = match kidnapped {
-            None => None,
-            Some((_, k)) => {
-                let opts = RunOptions {
-                    kidnap: Some(k),
-                    ..RunOptions::default()
-                };
-                match run_method(m, &setup, frames, &opts)?.report.recovery {
-                    Some(Recovery::Recovered { after }) => Some(after),
-                    _ => None,
-                }
-            }
-        };
-        let n = report.frames.len();
-        rows.push(MethodRow {
-            method: m.to_string(),
-            frames: n,
-            ate: report.ate,
-            ate_all: report.ate_all,
-            heading_rmse: report.heading_rmse,
-            first_fix: report.first_fix.map(|f| f.after),
-            kidnap_at: kidnapped.map(|k| k.0),
-            recovery,
-            wall_s: took.as_secs_f64(),
-            time_per_step_us: if n > 0 {
-                took.as_secs_f64() * 1e6 / n as f64
-            } else {
-                0.0
-            },
-            used: report.used,
-            thinned: report.thinned,
-            unknown: report.unknown + input.reader.stats.unknown,
-            rejected_readings: report.rejected,
-            rmcl,
-            ate_common: None,
-            common_from: None,
-        });
-        reports.push(report);
-    }
-    if let Some(b) = &bar {
-        b.finish_and_clear();
-    }
-    let start = common_window_start(&reports);
-    let t0 = frames.first().map_or(0.0, |f| f.t);
-    for (row, report) in rows.iter_mut().zip(&reports) {
-        row.ate_common = start.and_then(|t| report.ate_from(t));
-        row.common_from = start.map(|t| t - t0);
-    }
+    let rows = method_rows(args, &setup, &input, kidnapped)?;
     let points = match args.sweep {
         None => Vec::new(),
         Some(kind) => run_sweeps(kind, args, &setup, frames)?,
@@ -399,6 +316,134 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
     } else {
         EXIT_OK
     })
+}
+
+/// A method given twice would write the same `--tum-dir` file twice; none at all is a mistake.
+fn check_methods(methods: &[MethodSpec]) -> Result<(), CliError> {
+    let mut seen = std::collections::BTreeSet::new();
+    for m in methods {
+        if !seen.insert(m.file_name()) {
+            return Err(bad(format!("--methods: `{m}` is given twice")));
+        }
+    }
+    if methods.is_empty() {
+        return Err(bad("--methods: no method given"));
+    }
+    Ok(())
+}
+
+/// The methods' common setup: the baselines' configurations (bundled unless given) and the
+/// bounds every method starts spread over.
+fn setup<'a>(
+    args: &CompareArgs,
+    table: &'a LandmarkTable,
+    grid: &'a GridConfig,
+) -> Result<Setup<'a>, CliError> {
+    let bounds = match grid.bounds {
+        Some(b) => b,
+        None => table
+            .bounds(grid.margin)
+            .ok_or_else(|| bad("the map has no landmark with an id"))?,
+    };
+    Ok(Setup {
+        table,
+        grid,
+        pf: match &args.pf_config {
+            None => PfConfig::from_ron(PF_CONFIG).map_err(bad)?,
+            Some(p) => read_config(p, PfConfig::from_ron)?,
+        },
+        rmcl: match &args.rmcl_config {
+            None => RmclConfig::from_ron(RMCL_CONFIG).map_err(bad)?,
+            Some(p) => read_config(p, RmclConfig::from_ron)?,
+        },
+        bounds,
+        seed: args.seed,
+    })
+}
+
+/// Runs every method (and, with a kidnap, each once more kidnapped) and makes its row; the rows'
+/// common-window ATE is filled once all have run, since the window depends on all of them.
+fn method_rows(
+    args: &CompareArgs,
+    setup: &Setup<'_>,
+    input: &LoadedFrames,
+    kidnapped: Option<(f64, Kidnap)>,
+) -> Result<Vec<MethodRow>, CliError> {
+    let frames = &input.frames;
+    let mut rows = Vec::new();
+    let mut reports = Vec::new();
+    let bar = super::progress::steps(args.methods.len() as u64, "methods");
+    for &m in &args.methods {
+        if let Some(b) = &bar {
+            b.inc(1);
+        }
+        let ran = run_method(m, setup, frames, &RunOptions::default())?;
+        if let Some(dir) = &args.tum_dir {
+            write_trajectory(&dir.join(m.file_name()), &ran.report.frames)?;
+        }
+        let recovery = match kidnapped {
+            None => None,
+            Some((_, k)) => {
+                let opts = RunOptions {
+                    kidnap: Some(k),
+                    ..RunOptions::default()
+                };
+                match run_method(m, setup, frames, &opts)?.report.recovery {
+                    Some(Recovery::Recovered { after }) => Some(after),
+                    _ => None,
+                }
+            }
+        };
+        let (kidnap_at, unknown) = (kidnapped.map(|k| k.0), input.reader.stats.unknown);
+        rows.push(method_row(m, &ran, kidnap_at, recovery, unknown));
+        reports.push(ran.report);
+    }
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let start = common_window_start(&reports);
+    let t0 = frames.first().map_or(0.0, |f| f.t);
+    for (row, report) in rows.iter_mut().zip(&reports) {
+        row.ate_common = start.and_then(|t| report.ate_from(t));
+        row.common_from = start.map(|t| t - t0);
+    }
+    Ok(rows)
+}
+
+/// The row of method `m` from its run, before the common window is known; `unknown_read` counts
+/// the readings the input's reader could not place, added to the run's own.
+fn method_row(
+    m: MethodSpec,
+    ran: &Ran,
+    kidnap_at: Option<f64>,
+    recovery: Option<f64>,
+    unknown_read: usize,
+) -> MethodRow {
+    let Ran { report, took, rmcl } = ran;
+    let n = report.frames.len();
+    MethodRow {
+        method: m.to_string(),
+        frames: n,
+        ate: report.ate,
+        ate_all: report.ate_all,
+        heading_rmse: report.heading_rmse,
+        first_fix: report.first_fix.map(|f| f.after),
+        kidnap_at,
+        recovery,
+        wall_s: took.as_secs_f64(),
+        time_per_step_us: if n > 0 {
+            took.as_secs_f64() * 1e6 / n as f64
+        } else {
+            0.0
+        },
+        used: report.used,
+        thinned: report.thinned,
+        unknown: report.unknown + unknown_read,
+        rejected_readings: report.rejected,
+        rmcl: *rmcl,
+        ate_common: None,
+        common_from: None,
+    }
 }
 
 /// The perturbations of a sweep kind: (sweep name, perturbation), in plotting order.

@@ -87,7 +87,7 @@ use crate::grid::dilate::{dilate_line, Profile};
 use crate::logic::{
     clamp_degree, decide, Decision, DecisionParams, Disoriented, PlaceDistribution,
 };
-use crate::map::{Extent, Map};
+use crate::map::{Extent, Map, Place};
 use serde::{Deserialize, Serialize};
 
 /// Parameters of the metric tracker (the `grid` field of a tracker RON file). Every field is
@@ -233,6 +233,79 @@ fn extent_box(pose: (f64, f64), e: Extent) -> [f64; 4] {
     }
 }
 
+/// Entry `j` of an evidence vector as a degree, `missing` when the vector is short.
+fn degree_at(v: &[f64], j: usize, missing: f64) -> f64 {
+    clamp_degree(v.get(j).copied().unwrap_or(missing))
+}
+
+/// The lower-left and upper-right corners of the places' extents; the origin alone when no
+/// place has a finite extent, so that the plane stays finite.
+fn places_bounds(places: &[Place]) -> ((f64, f64), (f64, f64)) {
+    let mut lo = (f64::INFINITY, f64::INFINITY);
+    let mut hi = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+    for p in places {
+        let b = extent_box((p.pose.0, p.pose.1), p.extent);
+        if b.iter().all(|v| v.is_finite()) {
+            lo = (lo.0.min(b[0]), lo.1.min(b[1]));
+            hi = (hi.0.max(b[2]), hi.1.max(b[3]));
+        }
+    }
+    if !(lo.0 <= hi.0 && lo.1 <= hi.1) {
+        lo = (0.0, 0.0);
+        hi = (0.0, 0.0);
+    }
+    (lo, hi)
+}
+
+/// The configured cell size (the default when unusable), doubled until a `w` × `h` plane fits
+/// in [`MAX_CELLS`] cells.
+fn cell_size(grid: &GridTrackConfig, w: f64, h: f64) -> f64 {
+    let mut cell = if grid.cell_size > 0.0 && grid.cell_size.is_finite() {
+        grid.cell_size
+    } else {
+        GridTrackConfig::default().cell_size
+    };
+    let fits = |c: f64| (w / c).ceil().max(1.0) * (h / c).ceil().max(1.0) <= MAX_CELLS as f64;
+    while !fits(cell) {
+        cell *= 2.0;
+    }
+    cell
+}
+
+/// The place of each cell's centre, row-major (the first place containing it), or [`NONE`].
+fn label_cells(
+    places: &[Place],
+    (nx, ny): (usize, usize),
+    origin: (f64, f64),
+    cell: f64,
+) -> Vec<u32> {
+    let mut label = vec![NONE; nx * ny];
+    for (r, row) in label.chunks_exact_mut(nx).enumerate() {
+        let y = origin.1 + (r as f64 + 0.5) * cell;
+        for (c, l) in row.iter_mut().enumerate() {
+            let x = origin.0 + (c as f64 + 0.5) * cell;
+            if let Some(k) = places.iter().position(|p| p.contains(x, y)) {
+                *l = k as u32;
+            }
+        }
+    }
+    label
+}
+
+/// The maximal runs `(start, end, place)` of equal labels, `place` = `n` between places.
+fn label_runs(label: &[u32], n: usize) -> Vec<(usize, usize, usize)> {
+    let mut runs = Vec::new();
+    let mut start = 0;
+    for k in 1..=label.len() {
+        if k == label.len() || label[k] != label[start] {
+            let l = label[start];
+            runs.push((start, k, if l == NONE { n } else { l as usize }));
+            start = k;
+        }
+    }
+    runs
+}
+
 impl GridTracker {
     /// A tracker over `map`'s place extents with `cfg.grid` (defaults if `None`), `cfg.bias`
     /// and `cfg.min_support`, deciding with `params`. Non-finite extents are left out of the
@@ -241,56 +314,19 @@ impl GridTracker {
         let grid = cfg.grid.unwrap_or_default();
         let places = map.places();
         let n = places.len();
-        let mut lo = (f64::INFINITY, f64::INFINITY);
-        let mut hi = (f64::NEG_INFINITY, f64::NEG_INFINITY);
-        for p in places {
-            let b = extent_box((p.pose.0, p.pose.1), p.extent);
-            if b.iter().all(|v| v.is_finite()) {
-                lo = (lo.0.min(b[0]), lo.1.min(b[1]));
-                hi = (hi.0.max(b[2]), hi.1.max(b[3]));
-            }
-        }
-        if !(lo.0 <= hi.0 && lo.1 <= hi.1) {
-            lo = (0.0, 0.0);
-            hi = (0.0, 0.0);
-        }
+        let (lo, hi) = places_bounds(places);
         let margin = if grid.margin.is_finite() {
             grid.margin.max(0.0)
         } else {
             0.0
         };
         let (w, h) = (hi.0 - lo.0 + 2.0 * margin, hi.1 - lo.1 + 2.0 * margin);
-        let mut cell = if grid.cell_size > 0.0 && grid.cell_size.is_finite() {
-            grid.cell_size
-        } else {
-            GridTrackConfig::default().cell_size
-        };
-        let fits = |c: f64| (w / c).ceil().max(1.0) * (h / c).ceil().max(1.0) <= MAX_CELLS as f64;
-        while !fits(cell) {
-            cell *= 2.0;
-        }
+        let cell = cell_size(&grid, w, h);
         let nx = ((w / cell).ceil() as usize).max(1);
         let ny = ((h / cell).ceil() as usize).max(1);
         let origin = (lo.0 - margin, lo.1 - margin);
-        let mut label = vec![NONE; nx * ny];
-        for (r, row) in label.chunks_exact_mut(nx).enumerate() {
-            let y = origin.1 + (r as f64 + 0.5) * cell;
-            for (c, l) in row.iter_mut().enumerate() {
-                let x = origin.0 + (c as f64 + 0.5) * cell;
-                if let Some(k) = places.iter().position(|p| p.contains(x, y)) {
-                    *l = k as u32;
-                }
-            }
-        }
-        let mut runs = Vec::new();
-        let mut start = 0;
-        for k in 1..=label.len() {
-            if k == label.len() || label[k] != label[start] {
-                let l = label[start];
-                runs.push((start, k, if l == NONE { n } else { l as usize }));
-                start = k;
-            }
-        }
+        let label = label_cells(places, (nx, ny), origin, cell);
+        let runs = label_runs(&label, n);
         let n_runs = runs.len();
         let longest = nx.max(ny);
         let mut t = GridTracker {
@@ -564,19 +600,32 @@ impl GridTracker {
     }
 
     fn intersect(&mut self, evidence: &PlaceDistribution, w: f32) {
+        let max_support = self.evidence_factors(evidence, w);
+        let h = self.multiply_runs();
+        self.normalise(h);
+        self.necessities();
+        let hd = f64::from(h);
+        self.dist.height = if hd.is_finite() { hd.min(1.0) } else { 0.0 };
+        self.dist.inconsistency = 1.0 - self.dist.height;
+        self.decision = decide(&self.dist, self.params);
+        self.decision = unless_unsupported(self.decision, max_support, self.min_support, |k| {
+            degree_at(&evidence.support, k, 0.0)
+        });
+    }
+
+    /// Copies the evidence's support and exclusion and sets each place's cell factor (and the
+    /// between-places one) for `w` lengths of travel; returns the evidence's largest support.
+    fn evidence_factors(&mut self, evidence: &PlaceDistribution, w: f32) -> f64 {
         let n = self.n;
-        let b = self.bias as f32;
-        let get =
-            |v: &[f64], j: usize, missing: f64| clamp_degree(v.get(j).copied().unwrap_or(missing));
         let mut max_support = 0.0f64;
         for j in 0..n {
-            let a = get(&evidence.support, j, 0.0);
+            let a = degree_at(&evidence.support, j, 0.0);
             max_support = max_support.max(a);
             self.dist.support[j] = a;
-            self.dist.exclusion[j] = get(&evidence.exclusion, j, 0.0);
+            self.dist.exclusion[j] = degree_at(&evidence.exclusion, j, 0.0);
             // The evidence factor of place j's cells, kept in `possibility` until the places
             // pass below overwrites it.
-            self.dist.possibility[j] = get(&evidence.possibility, j, 1.0).max(self.bias);
+            self.dist.possibility[j] = degree_at(&evidence.possibility, j, 1.0).max(self.bias);
         }
         // The evidence of `w` lengths of travel: each factor to the power `w` (w = 1 is the
         // frame's evidence as it is; bit for bit, as `powf(1)` is exact).
@@ -586,10 +635,16 @@ impl GridTracker {
         if let Some(f) = self.factor.get_mut(n) {
             *f = (((1.0 - max_support).max(self.bias)) as f32).powf(w);
         }
-        // Multiply each run by its factor and keep the run's largest value: normalising is
-        // monotone, so a run's largest value afterwards is the normalised one of this, and the
-        // plane needs no third pass. Maxima as selects (`raw_max`), not `f32::max`, whose NaN
-        // rule keeps the loops from vectorising (no cell is NaN: every factor is finite).
+        max_support
+    }
+
+    /// Multiplies each run by its factor and keeps the run's largest value; returns the plane's
+    /// largest value. Normalising is monotone, so a run's largest value afterwards is the
+    /// normalised one of this, and the plane needs no third pass. Maxima as selects
+    /// (`raw_max`), not `f32::max`, whose NaN rule keeps the loops from vectorising (no cell is
+    /// NaN: every factor is finite).
+    fn multiply_runs(&mut self) -> f32 {
+        let b = self.bias as f32;
         let mut h = 0.0f32;
         for (top, &(start, end, l)) in self.run_top.iter_mut().zip(&self.runs) {
             let f = self.factor.get(l).copied().unwrap_or(b);
@@ -600,6 +655,12 @@ impl GridTracker {
             *top = raw_max(run);
             h = if *top > h { *top } else { h };
         }
+        h
+    }
+
+    /// Divides the plane by its height `h` (floored at `cfg.floor`; an empty or broken plane
+    /// becomes all-possible) and reads each place's possibility off its runs' maxima.
+    fn normalise(&mut self, h: f32) {
         let floor = self.cfg.floor as f32;
         let normal = h > 0.0 && h.is_finite();
         let inv = if normal { 1.0 / h } else { 0.0 };
@@ -629,11 +690,14 @@ impl GridTracker {
         for (p, &t) in self.dist.possibility_raw.iter_mut().zip(&self.top) {
             *p = f64::from(t);
         }
-        self.between = f64::from(self.top.get(n).copied().unwrap_or(0.0));
+        self.between = f64::from(self.top.get(self.n).copied().unwrap_or(0.0));
         self.dist
             .possibility
             .copy_from_slice(&self.dist.possibility_raw);
-        // N_j = 1 − max(max_{k≠j} π_k, π_∅): the two largest π suffice.
+    }
+
+    /// N_j = 1 − max(max_{k≠j} π_k, π_∅): the two largest π suffice.
+    fn necessities(&mut self) {
         let (mut first, mut second, mut best) = (self.between, self.between, usize::MAX);
         for (k, &p) in self.dist.possibility.iter().enumerate() {
             if p > first {
@@ -648,12 +712,5 @@ impl GridTracker {
             let other = if k == best { second } else { first };
             *nk = 1.0 - other;
         }
-        let hd = f64::from(h);
-        self.dist.height = if hd.is_finite() { hd.min(1.0) } else { 0.0 };
-        self.dist.inconsistency = 1.0 - self.dist.height;
-        self.decision = decide(&self.dist, self.params);
-        self.decision = unless_unsupported(self.decision, max_support, self.min_support, |k| {
-            get(&evidence.support, k, 0.0)
-        });
     }
 }

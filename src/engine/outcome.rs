@@ -121,7 +121,6 @@ impl Outcome {
                 ("disoriented", None, None, Some(reason), candidates)
             }
         };
-        let rooms = engine.rooms();
         Outcome {
             outcome,
             place,
@@ -139,48 +138,64 @@ impl Outcome {
                     possibility_raw: d.possibility_raw[k],
                 })
                 .collect(),
-            rooms: engine
-                .map()
-                .rooms()
-                .iter()
-                .enumerate()
-                .map(|(r, room)| RoomOutcome {
-                    room: room.name.clone(),
-                    support: rooms.support[r],
-                    possibility: rooms.possibility[r],
-                    necessity: rooms.necessity[r],
-                })
-                .collect(),
-            regions: engine
-                .rules()
-                .regions
-                .iter()
-                .enumerate()
-                .map(|(g, (region, _))| RoomOutcome {
-                    room: region.clone(),
-                    support: engine.regions().support[g],
-                    possibility: engine.regions().possibility[g],
-                    necessity: engine.regions().necessity[g],
-                })
-                .collect(),
+            rooms: room_outcomes(engine),
+            regions: region_outcomes(engine),
             queries: Vec::new(),
-            fired: engine
-                .trace()
-                .filter(|(_, deg)| *deg > 0.0)
-                .map(|(c, deg)| Fired {
-                    rule: c.rule + 1,
-                    context: name(c.context),
-                    binding: c.binding.iter().map(|(v, x)| format!("{v}={x}")).collect(),
-                    head: format!(
-                        "{}{}",
-                        if c.negated { "!" } else { "" },
-                        engine.atom_text(&c.head)
-                    ),
-                    degree: deg,
-                })
-                .collect(),
+            fired: fired(engine, name),
         }
     }
+}
+
+/// The map's rooms with their degrees, in map order.
+fn room_outcomes(engine: &Engine) -> Vec<RoomOutcome> {
+    let rooms = engine.rooms();
+    engine
+        .map()
+        .rooms()
+        .iter()
+        .enumerate()
+        .map(|(r, room)| RoomOutcome {
+            room: room.name.clone(),
+            support: rooms.support[r],
+            possibility: rooms.possibility[r],
+            necessity: rooms.necessity[r],
+        })
+        .collect()
+}
+
+/// The rule file's regions with their degrees, in declaration order.
+fn region_outcomes(engine: &Engine) -> Vec<RoomOutcome> {
+    engine
+        .rules()
+        .regions
+        .iter()
+        .enumerate()
+        .map(|(g, (region, _))| RoomOutcome {
+            room: region.clone(),
+            support: engine.regions().support[g],
+            possibility: engine.regions().possibility[g],
+            necessity: engine.regions().necessity[g],
+        })
+        .collect()
+}
+
+/// The traced rule instances with a positive degree, their context place named by `name`.
+fn fired(engine: &Engine, name: impl Fn(usize) -> String) -> Vec<Fired> {
+    engine
+        .trace()
+        .filter(|(_, deg)| *deg > 0.0)
+        .map(|(c, deg)| Fired {
+            rule: c.rule + 1,
+            context: name(c.context),
+            binding: c.binding.iter().map(|(v, x)| format!("{v}={x}")).collect(),
+            head: format!(
+                "{}{}",
+                if c.negated { "!" } else { "" },
+                engine.atom_text(&c.head)
+            ),
+            degree: deg,
+        })
+        .collect()
 }
 
 impl Engine {

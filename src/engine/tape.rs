@@ -174,28 +174,19 @@ impl Tape {
         }
     }
 
+    /// Writes register `r` as a formula; `dual` writes its dissimilarity `1 − degree` instead,
+    /// with De Morgan moving the complement to the leaves where it can, so that the text reads
+    /// as a combination of dissimilarities.
     fn render_into(&self, s: &mut String, r: Reg, percepts: &PerceptTable, dual: bool) {
         let Some(op) = self.ops.get(r as usize) else {
             s.push('?');
             return;
         };
-        let leaf = |s: &mut String, text: &str| {
-            if dual {
-                let _ = write!(s, "δ[{text}]");
-            } else {
-                s.push_str(text);
-            }
-        };
-        let name = |slot: PerceptSlot| {
-            percepts
-                .instance(slot)
-                .map_or_else(|| format!("slot{}", slot.0), |p| p.to_string())
-        };
         match *op {
             Op::Const(c) => {
                 let _ = write!(s, "{}", fmt_num(if dual { 1.0 - c } else { c }));
             }
-            Op::Degree(slot) => leaf(s, &name(slot)),
+            Op::Degree(slot) => push_leaf(s, &slot_name(percepts, slot), dual),
             Op::Match {
                 slot,
                 similarity,
@@ -211,61 +202,13 @@ impl Tape {
                 } else {
                     fmt_num(centre)
                 };
-                leaf(s, &format!("{} ~{} {}", name(slot), sim, expect));
+                let text = format!("{} ~{} {}", slot_name(percepts, slot), sim, expect);
+                push_leaf(s, &text, dual);
             }
             Op::Min(..) | Op::Max(..) => {
-                let is_min = matches!(op, Op::Min(..));
-                let mut parts = Vec::new();
-                if is_min {
-                    self.collect_chain(
-                        r,
-                        |o| {
-                            if let Op::Min(a, b) = *o {
-                                Some((a, b))
-                            } else {
-                                None
-                            }
-                        },
-                        &mut parts,
-                    );
-                } else {
-                    self.collect_chain(
-                        r,
-                        |o| {
-                            if let Op::Max(a, b) = *o {
-                                Some((a, b))
-                            } else {
-                                None
-                            }
-                        },
-                        &mut parts,
-                    );
-                }
-                // De Morgan: 1 − min(a, b) = max(1 − a, 1 − b).
-                s.push_str(if is_min != dual { "min(" } else { "max(" });
-                for (i, p) in parts.iter().enumerate() {
-                    if i > 0 {
-                        s.push_str(", ");
-                    }
-                    self.render_into(s, *p, percepts, dual);
-                }
-                s.push(')');
+                self.render_chain(s, r, matches!(op, Op::Min(..)), percepts, dual)
             }
-            Op::TNorm(a, b) => {
-                let f = match (self.logic.tnorm, dual) {
-                    (TNorm::Min, false) => "min",
-                    (TNorm::Min, true) => "max",
-                    (TNorm::Product, false) => "prod",
-                    (TNorm::Product, true) => "probsum",
-                    (TNorm::Lukasiewicz, false) => "luk",
-                    (TNorm::Lukasiewicz, true) => "boundedsum",
-                };
-                let _ = write!(s, "{f}(");
-                self.render_into(s, a, percepts, dual);
-                s.push_str(", ");
-                self.render_into(s, b, percepts, dual);
-                s.push(')');
-            }
+            Op::TNorm(a, b) => self.render_tnorm(s, (a, b), percepts, dual),
             Op::Not(a) => {
                 // In the dual form this reads 1 − δ(a), which is a's degree: still correct.
                 s.push_str("1 - ");
@@ -279,26 +222,108 @@ impl Tape {
                 self.render_into(s, b, percepts, false);
                 s.push(')');
             }
-            Op::Detach(a, w) => {
-                let f = match self.logic.implication {
-                    crate::logic::Implication::Residuum => match self.logic.tnorm {
-                        TNorm::Min => "min",
-                        TNorm::Product => "prod",
-                        TNorm::Lukasiewicz => "luk",
-                    },
-                    crate::logic::Implication::MinMp => "min",
-                };
-                if dual {
-                    let _ = write!(s, "1 - {f}(");
-                    self.render_into(s, a, percepts, false);
-                } else {
-                    let _ = write!(s, "{f}(");
-                    self.render_into(s, a, percepts, false);
-                }
-                let _ = write!(s, ", {})", fmt_num(w));
-            }
+            Op::Detach(a, w) => self.render_detach(s, a, w, percepts, dual),
         }
     }
+
+    /// A chain of nested `Min` (or `Max`) registers, flattened into one `min(a, b, c)`.
+    fn render_chain(
+        &self,
+        s: &mut String,
+        r: Reg,
+        is_min: bool,
+        percepts: &PerceptTable,
+        dual: bool,
+    ) {
+        let same: fn(&Op) -> Option<(Reg, Reg)> = if is_min {
+            |o| {
+                if let Op::Min(a, b) = *o {
+                    Some((a, b))
+                } else {
+                    None
+                }
+            }
+        } else {
+            |o| {
+                if let Op::Max(a, b) = *o {
+                    Some((a, b))
+                } else {
+                    None
+                }
+            }
+        };
+        let mut parts = Vec::new();
+        self.collect_chain(r, same, &mut parts);
+        // De Morgan: 1 − min(a, b) = max(1 − a, 1 − b).
+        s.push_str(if is_min != dual { "min(" } else { "max(" });
+        for (i, p) in parts.iter().enumerate() {
+            if i > 0 {
+                s.push_str(", ");
+            }
+            self.render_into(s, *p, percepts, dual);
+        }
+        s.push(')');
+    }
+
+    /// The t-norm of `a` and `b`; in the dual form, its t-conorm of the dissimilarities.
+    fn render_tnorm(
+        &self,
+        s: &mut String,
+        (a, b): (Reg, Reg),
+        percepts: &PerceptTable,
+        dual: bool,
+    ) {
+        let f = match (self.logic.tnorm, dual) {
+            (TNorm::Min, false) => "min",
+            (TNorm::Min, true) => "max",
+            (TNorm::Product, false) => "prod",
+            (TNorm::Product, true) => "probsum",
+            (TNorm::Lukasiewicz, false) => "luk",
+            (TNorm::Lukasiewicz, true) => "boundedsum",
+        };
+        let _ = write!(s, "{f}(");
+        self.render_into(s, a, percepts, dual);
+        s.push_str(", ");
+        self.render_into(s, b, percepts, dual);
+        s.push(')');
+    }
+
+    /// A rule's detachment of weight `w`: its body is read as a degree in both forms, only the
+    /// result is complemented in the dual.
+    fn render_detach(&self, s: &mut String, a: Reg, w: f64, percepts: &PerceptTable, dual: bool) {
+        let f = match self.logic.implication {
+            crate::logic::Implication::Residuum => match self.logic.tnorm {
+                TNorm::Min => "min",
+                TNorm::Product => "prod",
+                TNorm::Lukasiewicz => "luk",
+            },
+            crate::logic::Implication::MinMp => "min",
+        };
+        if dual {
+            let _ = write!(s, "1 - {f}(");
+            self.render_into(s, a, percepts, false);
+        } else {
+            let _ = write!(s, "{f}(");
+            self.render_into(s, a, percepts, false);
+        }
+        let _ = write!(s, ", {})", fmt_num(w));
+    }
+}
+
+/// A leaf of a formula; in the dual form, wrapped as its dissimilarity `δ[…]`.
+fn push_leaf(s: &mut String, text: &str, dual: bool) {
+    if dual {
+        let _ = write!(s, "δ[{text}]");
+    } else {
+        s.push_str(text);
+    }
+}
+
+/// The percept instance in `slot`, or `slotN` when the table does not know it.
+fn slot_name(percepts: &PerceptTable, slot: PerceptSlot) -> String {
+    percepts
+        .instance(slot)
+        .map_or_else(|| format!("slot{}", slot.0), |p| p.to_string())
 }
 
 /// Shortest decimal form of a number for formulas (`4.6`, not `4.600000`).

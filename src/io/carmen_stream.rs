@@ -39,6 +39,7 @@ use crate::io::record::{
 use crate::map::Place;
 use crate::percept::compass::CompassTracker;
 use crate::percept::layout::layout;
+use crate::percept::scan::ScanView;
 use crate::percept::{ConfigError, ExtractConfig, PerceptArg, PerceptRecord, ScanExtractor, Side};
 
 /// Turns CARMEN messages into frame records, one per scan. Feed it every message in log order
@@ -227,12 +228,9 @@ impl<'m> CarmenFramer<'m> {
         self.frame(scan, Some((first_bearing, bearing_step)), laser_offset)
     }
 
-    fn frame(
-        &mut self,
-        scan: &LaserScan,
-        geometry: Option<(f64, f64)>,
-        laser_offset: f64,
-    ) -> FrameRecord {
+    /// The odometry increment since the previous scan (from the latest `ODOM`, else the scan's
+    /// own pose), folded into the dead reckoning; `None` for the first scan.
+    fn advance_odometry(&mut self, scan: &LaserScan) -> Option<Pose2> {
         let odometry = self.prev_scan_odom.map(|prev| {
             let now = self.last_odom.unwrap_or(scan.odom_pose);
             relative(&prev, &now)
@@ -242,7 +240,58 @@ impl<'m> CarmenFramer<'m> {
         }
         self.prev_scan_odom = Some(scan.odom_pose);
         self.last_odom = None;
+        odometry
+    }
 
+    /// Steps the compass (when configured) and appends its `free_range` percepts; returns the
+    /// free ranges that have a value (at most 8), for the quality counts.
+    fn compass_percepts(
+        &mut self,
+        view: &ScanView<'_>,
+        odometry: Option<&Pose2>,
+        odom_theta: f64,
+        percepts: &mut Vec<WireRecord>,
+    ) -> ([f64; 8], usize) {
+        let mut free = [0.0f64; 8];
+        let mut n_free = 0;
+        if let Some(compass) = self.compass.as_mut() {
+            for r in compass.step(view, odometry, odom_theta) {
+                if let (Some(v), Some(slot)) = (r.value, free.get_mut(n_free)) {
+                    *slot = v;
+                    n_free += 1;
+                }
+                percepts.push(WireRecord {
+                    name: "free_range".to_owned(),
+                    args: vec![r.direction.to_owned()],
+                    value: r.value,
+                    degree: r.degree,
+                });
+            }
+        }
+        (free, n_free)
+    }
+
+    /// The recorded true pose and the place containing it, when the framer knows the places.
+    fn truth(&self, scan: &LaserScan) -> Option<Truth> {
+        self.places.map(|places| {
+            let p = scan.pose;
+            Truth {
+                place: places
+                    .iter()
+                    .find(|pl| pl.contains(p.x, p.y))
+                    .map(|pl| pl.name.clone()),
+                pose: Some([p.x, p.y, wrap_180(p.theta.to_degrees())]),
+            }
+        })
+    }
+
+    fn frame(
+        &mut self,
+        scan: &LaserScan,
+        geometry: Option<(f64, f64)>,
+        laser_offset: f64,
+    ) -> FrameRecord {
+        let odometry = self.advance_odometry(scan);
         let mut view = scan.view(laser_offset);
         view.pose = self.dead_reckoning;
         if let Some((first, step)) = geometry {
@@ -258,22 +307,12 @@ impl<'m> CarmenFramer<'m> {
                 degree: r.degree,
             });
         }
-        let mut free = [0.0f64; 8];
-        let mut n_free = 0;
-        if let Some(compass) = self.compass.as_mut() {
-            for r in compass.step(&view, odometry.as_ref(), scan.odom_pose.theta) {
-                if let (Some(v), Some(slot)) = (r.value, free.get_mut(n_free)) {
-                    *slot = v;
-                    n_free += 1;
-                }
-                percepts.push(WireRecord {
-                    name: "free_range".to_owned(),
-                    args: vec![r.direction.to_owned()],
-                    value: r.value,
-                    degree: r.degree,
-                });
-            }
-        }
+        let (free, n_free) = self.compass_percepts(
+            &view,
+            odometry.as_ref(),
+            scan.odom_pose.theta,
+            &mut percepts,
+        );
         // The axis-locked heading is the extractor's own estimate (no corrected pose enters it).
         let heading = self
             .compass
@@ -281,16 +320,7 @@ impl<'m> CarmenFramer<'m> {
             .and_then(CompassTracker::pose)
             .map(|p| wrap_180(p.theta.to_degrees()));
         self.count_quality(odometry.as_ref(), &free[..n_free]);
-        let truth = self.places.map(|places| {
-            let p = scan.pose;
-            Truth {
-                place: places
-                    .iter()
-                    .find(|pl| pl.contains(p.x, p.y))
-                    .map(|pl| pl.name.clone()),
-                pose: Some([p.x, p.y, wrap_180(p.theta.to_degrees())]),
-            }
-        });
+        let truth = self.truth(scan);
         self.frames += 1;
         // Scan `ipc_ts` occasionally steps back by a fraction of a second (4 times in the Intel
         // log) although lines are in chronological order (data README), and a stream's time

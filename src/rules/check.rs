@@ -316,10 +316,55 @@ impl Checker<'_> {
     }
 
     fn declarations(&mut self, file: &RuleFile) {
-        let mut logic_seen: Option<Span> = None;
-        let mut pred_spans: BTreeMap<String, Span> = BTreeMap::new();
-        let mut sim_spans: BTreeMap<String, Span> = BTreeMap::new();
         // Domains and similarities first, so that percepts can refer to later ones.
+        let sim_spans = self.logic_domains_similarities(file);
+        let mut pred_spans: BTreeMap<String, Span> = BTreeMap::new();
+        for item in &file.items {
+            let (name, roles, similarity, span, is_percept) = match item {
+                RuleItem::Percept(p) => (&p.name, &p.roles, p.similarity.as_ref(), p.span, true),
+                RuleItem::Predicate(p) => (&p.name, &p.roles, None, p.span, false),
+                _ => continue,
+            };
+            if BUILTIN_PREDICATES.contains(&name.node.as_str()) {
+                self.err(
+                    DiagnosticKind::ReservedName {
+                        name: name.node.clone(),
+                    },
+                    name.span,
+                );
+                continue;
+            }
+            if let Some(first) = pred_spans.get(&name.node) {
+                let first = *first;
+                self.dup(
+                    if is_percept { "percept" } else { "predicate" },
+                    name,
+                    first,
+                );
+                continue;
+            }
+            pred_spans.insert(name.node.clone(), name.span);
+            self.signature_roles(name, roles, similarity, is_percept, &sim_spans);
+            let sig = Signature {
+                name: name.node.clone(),
+                roles: roles.iter().map(|r| r.node.clone()).collect(),
+                similarity: similarity.map(|s| s.node.clone()),
+                span,
+            };
+            if is_percept {
+                self.set.percepts.insert(name.node.clone(), sig);
+            } else {
+                self.set.predicates.insert(name.node.clone(), sig);
+            }
+        }
+    }
+
+    /// The `logic` block, domains and similarities of `file`; returns where each similarity was
+    /// first declared (a percept may name one whose trapezoid was rejected, and must not be told
+    /// it is unknown as well).
+    fn logic_domains_similarities(&mut self, file: &RuleFile) -> BTreeMap<String, Span> {
+        let mut logic_seen: Option<Span> = None;
+        let mut sim_spans: BTreeMap<String, Span> = BTreeMap::new();
         for item in &file.items {
             match item {
                 RuleItem::Logic(l) => {
@@ -354,72 +399,47 @@ impl Checker<'_> {
                 _ => {}
             }
         }
-        for item in &file.items {
-            let (name, roles, similarity, span, is_percept) = match item {
-                RuleItem::Percept(p) => (&p.name, &p.roles, p.similarity.as_ref(), p.span, true),
-                RuleItem::Predicate(p) => (&p.name, &p.roles, None, p.span, false),
-                _ => continue,
-            };
-            if BUILTIN_PREDICATES.contains(&name.node.as_str()) {
-                self.err(
-                    DiagnosticKind::ReservedName {
-                        name: name.node.clone(),
-                    },
-                    name.span,
-                );
-                continue;
-            }
-            if let Some(first) = pred_spans.get(&name.node) {
-                let first = *first;
-                self.dup(
-                    if is_percept { "percept" } else { "predicate" },
-                    name,
-                    first,
-                );
-                continue;
-            }
-            pred_spans.insert(name.node.clone(), name.span);
-            for r in roles {
-                if let ArgRole::Domain(d) = &r.node {
-                    if !self.set.domains.contains_key(d) {
-                        self.err(DiagnosticKind::UnknownDomain { name: d.clone() }, r.span);
-                    }
+        sim_spans
+    }
+
+    /// The domains and the similarity a percept or predicate declaration names must exist, and an
+    /// `expect` role needs a similarity to compare with.
+    fn signature_roles(
+        &mut self,
+        name: &Spanned<String>,
+        roles: &[Spanned<ArgRole>],
+        similarity: Option<&Spanned<String>>,
+        is_percept: bool,
+        sim_spans: &BTreeMap<String, Span>,
+    ) {
+        for r in roles {
+            if let ArgRole::Domain(d) = &r.node {
+                if !self.set.domains.contains_key(d) {
+                    self.err(DiagnosticKind::UnknownDomain { name: d.clone() }, r.span);
                 }
             }
-            if let Some(s) = similarity {
-                if !self.set.similarities.contains_key(&s.node) && !sim_spans.contains_key(&s.node)
-                {
-                    let known = self.set.similarities.keys().chain(sim_spans.keys());
-                    let known: Vec<&str> = known.map(String::as_str).collect();
-                    self.diags.push(
-                        Diagnostic::error(
-                            DiagnosticKind::UnknownSimilarity {
-                                name: s.node.clone(),
-                            },
-                            s.span,
-                        )
-                        .with_suggestion(suggest(&s.node, known)),
-                    );
-                }
-            } else if is_percept && roles.iter().any(|r| r.node == ArgRole::Expect) {
-                self.err(
-                    DiagnosticKind::ExpectWithoutSimilarity {
-                        percept: name.node.clone(),
-                    },
-                    name.span,
+        }
+        if let Some(s) = similarity {
+            if !self.set.similarities.contains_key(&s.node) && !sim_spans.contains_key(&s.node) {
+                let known = self.set.similarities.keys().chain(sim_spans.keys());
+                let known: Vec<&str> = known.map(String::as_str).collect();
+                self.diags.push(
+                    Diagnostic::error(
+                        DiagnosticKind::UnknownSimilarity {
+                            name: s.node.clone(),
+                        },
+                        s.span,
+                    )
+                    .with_suggestion(suggest(&s.node, known)),
                 );
             }
-            let sig = Signature {
-                name: name.node.clone(),
-                roles: roles.iter().map(|r| r.node.clone()).collect(),
-                similarity: similarity.map(|s| s.node.clone()),
-                span,
-            };
-            if is_percept {
-                self.set.percepts.insert(name.node.clone(), sig);
-            } else {
-                self.set.predicates.insert(name.node.clone(), sig);
-            }
+        } else if is_percept && roles.iter().any(|r| r.node == ArgRole::Expect) {
+            self.err(
+                DiagnosticKind::ExpectWithoutSimilarity {
+                    percept: name.node.clone(),
+                },
+                name.span,
+            );
         }
     }
 
@@ -673,50 +693,68 @@ impl Checker<'_> {
     }
 
     fn schema(&mut self, s: &Schema, uses: &BTreeMap<String, String>, b: &mut Bindings) {
-        let tuples: Vec<Vec<&Spanned<String>>> = match &s.source {
-            SchemaSource::Domain(d) => {
-                if s.vars.len() != 1 {
-                    self.err(
-                        DiagnosticKind::SchemaArity {
-                            expected: s.vars.len(),
-                            found: 1,
-                        },
-                        d.span,
-                    );
-                    return;
-                }
-                let Some(values) = self.set.domains.get(&d.node).cloned() else {
-                    self.err(
-                        DiagnosticKind::UnknownDomain {
-                            name: d.node.clone(),
-                        },
-                        d.span,
-                    );
-                    // Still bind the variable, so that its uses do not cascade into errors.
-                    b.schema.insert(s.vars[0].node.clone(), Vec::new());
-                    return;
-                };
-                if let Some(used) = uses.get(&s.vars[0].node) {
-                    if used != &d.node {
-                        self.err(
-                            DiagnosticKind::UnknownDomainValue {
-                                domain: used.clone(),
-                                value: d.node.clone(),
-                            },
-                            d.span,
-                        );
-                    }
-                }
-                b.schema.insert(s.vars[0].node.clone(), values);
-                return;
-            }
-            SchemaSource::Tuples(ts) => ts.iter().map(|t| t.node.iter().collect()).collect(),
-        };
-        let SchemaSource::Tuples(ts) = &s.source else {
+        match &s.source {
+            SchemaSource::Domain(d) => self.domain_schema(s, d, uses, b),
+            SchemaSource::Tuples(ts) => self.tuples_schema(s, ts, uses, b),
+        }
+    }
+
+    /// `for all x in D`: one variable ranging over a declared domain, which must agree with the
+    /// domain its uses in the rule imply.
+    fn domain_schema(
+        &mut self,
+        s: &Schema,
+        d: &Spanned<String>,
+        uses: &BTreeMap<String, String>,
+        b: &mut Bindings,
+    ) {
+        if s.vars.len() != 1 {
+            self.err(
+                DiagnosticKind::SchemaArity {
+                    expected: s.vars.len(),
+                    found: 1,
+                },
+                d.span,
+            );
+            return;
+        }
+        let Some(values) = self.set.domains.get(&d.node).cloned() else {
+            self.err(
+                DiagnosticKind::UnknownDomain {
+                    name: d.node.clone(),
+                },
+                d.span,
+            );
+            // Still bind the variable, so that its uses do not cascade into errors.
+            b.schema.insert(s.vars[0].node.clone(), Vec::new());
             return;
         };
+        if let Some(used) = uses.get(&s.vars[0].node) {
+            if used != &d.node {
+                self.err(
+                    DiagnosticKind::UnknownDomainValue {
+                        domain: used.clone(),
+                        value: d.node.clone(),
+                    },
+                    d.span,
+                );
+            }
+        }
+        b.schema.insert(s.vars[0].node.clone(), values);
+    }
+
+    /// `for all (x, y) in {(a, b), …}`: each tuple must match the variables, and each value must
+    /// belong to its variable's domain (or, when the rule does not fix one, to some domain).
+    fn tuples_schema(
+        &mut self,
+        s: &Schema,
+        ts: &[Spanned<Vec<Spanned<String>>>],
+        uses: &BTreeMap<String, String>,
+        b: &mut Bindings,
+    ) {
         let mut values: Vec<Vec<String>> = vec![Vec::new(); s.vars.len()];
-        for (t, spanned) in tuples.iter().zip(ts) {
+        for spanned in ts {
+            let t = &spanned.node;
             if t.len() != s.vars.len() {
                 self.err(
                     DiagnosticKind::SchemaArity {
@@ -729,31 +767,31 @@ impl Checker<'_> {
             }
             for (i, (var, val)) in s.vars.iter().zip(t).enumerate() {
                 match uses.get(&var.node) {
-                    Some(dom) => {
-                        self.constant_in(dom, val);
-                    }
-                    None => {
-                        let known = self.set.domains.values().any(|vs| vs.contains(&val.node));
-                        if !known {
-                            let all: BTreeSet<String> =
-                                self.set.domains.values().flatten().cloned().collect();
-                            self.err_unknown(
-                                DiagnosticKind::UnknownDomainValue {
-                                    domain: "any domain".into(),
-                                    value: val.node.clone(),
-                                },
-                                val.span,
-                                &val.node,
-                                all.iter().map(String::as_str),
-                            );
-                        }
-                    }
+                    Some(dom) => self.constant_in(dom, val),
+                    None => self.constant_in_any_domain(val),
                 }
                 values[i].push(val.node.clone());
             }
         }
         for (var, vals) in s.vars.iter().zip(values) {
             b.schema.insert(var.node.clone(), vals);
+        }
+    }
+
+    /// Checks that constant `c` is a value of some declared domain.
+    fn constant_in_any_domain(&mut self, c: &Spanned<String>) {
+        let known = self.set.domains.values().any(|vs| vs.contains(&c.node));
+        if !known {
+            let all: BTreeSet<String> = self.set.domains.values().flatten().cloned().collect();
+            self.err_unknown(
+                DiagnosticKind::UnknownDomainValue {
+                    domain: "any domain".into(),
+                    value: c.node.clone(),
+                },
+                c.span,
+                &c.node,
+                all.iter().map(String::as_str),
+            );
         }
     }
 
@@ -831,132 +869,141 @@ impl Checker<'_> {
     }
 
     fn atom(&mut self, a: &Atom, b: &Bindings) {
+        match a.name.node.as_str() {
+            "at_place" | "in_room" | "in_region" => self.place_atom(a, b),
+            "at_wall" | "at_corner" | "at_open" | "at_door" => self.map_relation_atom(a, b),
+            _ => self.declared_atom(a, b),
+        }
+    }
+
+    /// `at_place(x)`, `in_room(x)`, `in_region(x)`: the argument names a place set of the map,
+    /// or is the hypothesis' own `P_i` / `R_i`.
+    fn place_atom(&mut self, a: &Atom, b: &Bindings) {
+        if !self.arity(a, 1) {
+            return;
+        }
         let name = a.name.node.as_str();
-        match name {
-            "at_place" | "in_room" | "in_region" => {
-                if !self.arity(a, 1) {
-                    return;
-                }
-                let (dom, own) = match name {
-                    "at_place" => ("Place", "P"),
-                    "in_room" => ("Room", "R"),
-                    _ => ("Region", "-"),
+        let (dom, own) = match name {
+            "at_place" => ("Place", "P"),
+            "in_room" => ("Room", "R"),
+            _ => ("Region", "-"),
+        };
+        match &a.args[0].node {
+            Term::PlaceRef { name: n, key: None } if n == own => {}
+            _ => {
+                let expected = match name {
+                    "at_place" => "`P_i`, a place name or a `for all` variable over Place",
+                    "in_room" => "`R_i`, a room name or a `for all` variable over Room",
+                    _ => "a region name or a `for all` variable over Region",
                 };
-                match &a.args[0].node {
-                    Term::PlaceRef { name: n, key: None } if n == own => {}
-                    _ => {
-                        let expected = match name {
-                            "at_place" => "`P_i`, a place name or a `for all` variable over Place",
-                            "in_room" => "`R_i`, a room name or a `for all` variable over Room",
-                            _ => "a region name or a `for all` variable over Region",
-                        };
-                        self.domain_arg(a, 0, dom, b, expected);
-                    }
-                }
+                self.domain_arg(a, 0, dom, b, expected);
             }
-            "at_wall" | "at_corner" | "at_open" | "at_door" => {
-                if !self.arity(a, 2) {
-                    return;
-                }
-                let relation: &'static str = match name {
-                    "at_wall" => "at_wall",
-                    "at_open" => "at_open",
-                    "at_door" => "at_door",
-                    _ => "at_corner",
-                };
-                let needed = if name == "at_corner" { 2 } else { 1 };
-                match &a.args[0].node {
-                    Term::Var(v) => match b.values.get(v) {
-                        Some(p) => {
-                            let dirs = self.set.percepts.get(p).map_or(0, |s| {
-                                s.roles
-                                    .iter()
-                                    .filter(|r| matches!(r, ArgRole::Domain(d) if d == "Dir"))
-                                    .count()
-                            });
-                            if dirs < needed {
-                                self.err(
-                                    DiagnosticKind::MapRelationNeedsDirections {
-                                        relation,
-                                        percept: p.clone(),
-                                        needed,
-                                        found: dirs,
-                                    },
-                                    a.args[0].span,
-                                );
-                            }
-                        }
-                        None => self.err(
-                            DiagnosticKind::MapRelationUnbound {
+        }
+    }
+
+    /// `at_wall(v, t)` and its kin compare the map with a percept's directions, so `v` must be
+    /// bound by a percept that has enough `Dir` positions.
+    fn map_relation_atom(&mut self, a: &Atom, b: &Bindings) {
+        if !self.arity(a, 2) {
+            return;
+        }
+        let name = a.name.node.as_str();
+        let relation: &'static str = match name {
+            "at_wall" => "at_wall",
+            "at_open" => "at_open",
+            "at_door" => "at_door",
+            _ => "at_corner",
+        };
+        let needed = if name == "at_corner" { 2 } else { 1 };
+        match &a.args[0].node {
+            Term::Var(v) => match b.values.get(v) {
+                Some(p) => {
+                    let dirs = self.set.percepts.get(p).map_or(0, |s| {
+                        s.roles
+                            .iter()
+                            .filter(|r| matches!(r, ArgRole::Domain(d) if d == "Dir"))
+                            .count()
+                    });
+                    if dirs < needed {
+                        self.err(
+                            DiagnosticKind::MapRelationNeedsDirections {
                                 relation,
-                                var: v.clone(),
+                                percept: p.clone(),
+                                needed,
+                                found: dirs,
                             },
                             a.args[0].span,
-                        ),
+                        );
+                    }
+                }
+                None => self.err(
+                    DiagnosticKind::MapRelationUnbound {
+                        relation,
+                        var: v.clone(),
                     },
-                    _ => self.bad_arg(a, 0, "a variable bound by a percept's value"),
-                }
-                if a.args[1].node != Term::Time {
-                    self.bad_arg(a, 1, "the time `t`");
-                }
-            }
-            _ => {
-                let sig = self
-                    .set
-                    .percepts
+                    a.args[0].span,
+                ),
+            },
+            _ => self.bad_arg(a, 0, "a variable bound by a percept's value"),
+        }
+        if a.args[1].node != Term::Time {
+            self.bad_arg(a, 1, "the time `t`");
+        }
+    }
+
+    /// An atom of a declared percept or derived predicate: each argument must fit its role.
+    fn declared_atom(&mut self, a: &Atom, b: &Bindings) {
+        let name = a.name.node.as_str();
+        let sig = self
+            .set
+            .percepts
+            .get(name)
+            .map(|s| (s.roles.clone(), true))
+            .or_else(|| {
+                self.set
+                    .predicates
                     .get(name)
-                    .map(|s| (s.roles.clone(), true))
-                    .or_else(|| {
-                        self.set
-                            .predicates
-                            .get(name)
-                            .map(|s| (s.roles.clone(), false))
-                    });
-                let Some((roles, is_percept)) = sig else {
-                    let known: Vec<String> = (self.set.percepts.keys())
-                        .chain(self.set.predicates.keys())
-                        .cloned()
-                        .chain(BUILTIN_PREDICATES.iter().map(|s| s.to_string()))
-                        .collect();
-                    self.err_unknown(
-                        DiagnosticKind::UnknownPredicate {
-                            name: name.to_string(),
-                        },
-                        a.name.span,
-                        name,
-                        known.iter().map(String::as_str),
-                    );
-                    return;
-                };
-                if !self.arity(a, roles.len()) {
-                    return;
+                    .map(|s| (s.roles.clone(), false))
+            });
+        let Some((roles, is_percept)) = sig else {
+            let known: Vec<String> = (self.set.percepts.keys())
+                .chain(self.set.predicates.keys())
+                .cloned()
+                .chain(BUILTIN_PREDICATES.iter().map(|s| s.to_string()))
+                .collect();
+            self.err_unknown(
+                DiagnosticKind::UnknownPredicate {
+                    name: name.to_string(),
+                },
+                a.name.span,
+                name,
+                known.iter().map(String::as_str),
+            );
+            return;
+        };
+        if !self.arity(a, roles.len()) {
+            return;
+        }
+        for (i, role) in roles.iter().enumerate() {
+            match role {
+                ArgRole::Domain(d) => {
+                    self.domain_arg(a, i, d, b, "a value of the domain or a `for all` variable")
                 }
-                for (i, role) in roles.iter().enumerate() {
-                    match role {
-                        ArgRole::Domain(d) => self.domain_arg(
-                            a,
-                            i,
-                            d,
-                            b,
-                            "a value of the domain or a `for all` variable",
-                        ),
-                        ArgRole::Time => {
-                            if a.args[i].node != Term::Time {
-                                self.bad_arg(a, i, "the time `t`");
-                            }
-                        }
-                        ArgRole::Value => {
-                            if is_percept && !is_value_pattern(&a.args[i].node) {
-                                self.bad_arg(a, i, "a variable or a tuple of variables");
-                            }
-                        }
-                        ArgRole::Expect => {
-                            if is_percept && !is_expectation(&a.args[i].node) {
-                                self.bad_arg(a, i, "a place parameter like `A_i` or a number");
-                            } else {
-                                self.expectation(&a.args[i], b);
-                            }
-                        }
+                ArgRole::Time => {
+                    if a.args[i].node != Term::Time {
+                        self.bad_arg(a, i, "the time `t`");
+                    }
+                }
+                ArgRole::Value => {
+                    if is_percept && !is_value_pattern(&a.args[i].node) {
+                        self.bad_arg(a, i, "a variable or a tuple of variables");
+                    }
+                }
+                ArgRole::Expect => {
+                    if is_percept && !is_expectation(&a.args[i].node) {
+                        self.bad_arg(a, i, "a place parameter like `A_i` or a number");
+                    } else {
+                        self.expectation(&a.args[i], b);
                     }
                 }
             }
