@@ -3,6 +3,7 @@
 //! three output formats, the sweeps and their plot, exit codes for bad specs and malformed
 //! lines, `--help`; then real MRCLAM robot 1 (skipped when the data set is absent).
 
+use crate::support::landmarks::{self, frame};
 use crate::support::{lplace, mrclam_dir};
 use lplace::io::tum::read_tum;
 use std::path::PathBuf;
@@ -12,39 +13,11 @@ fn scratch(name: &str) -> PathBuf {
     crate::support::scratch("cli_compare", name)
 }
 
-const MAP: &str = "map tiny;\n\
-landmark A at (0.0, 0.0) id 1;\n\
-landmark B at (3.0, 0.0) id 2;\n\
-landmark C at (0.0, 2.0) id 3;\n";
-
-/// A frame at `t` of a robot standing at (1, 1) facing +x, seeing A, B and C exactly.
-fn frame(t: f64) -> String {
-    let mut p = Vec::new();
-    for (name, lx, ly) in [("A", 0.0f64, 0.0f64), ("B", 3.0, 0.0), ("C", 0.0, 2.0)] {
-        let (dx, dy) = (lx - 1.0, ly - 1.0);
-        p.push(format!(
-            r#"{{"name":"landmark_range","args":["{name}"],"value":{},"degree":1.0}}"#,
-            dx.hypot(dy)
-        ));
-        p.push(format!(
-            r#"{{"name":"landmark_bearing","args":["{name}"],"value":{},"degree":1.0}}"#,
-            dy.atan2(dx).to_degrees()
-        ));
-    }
-    format!(
-        r#"{{"version":1,"t":{t},"odometry":{{"dx":0,"dy":0,"dtheta":0}},"percepts":[{}],"truth":{{"pose":[1.0,1.0,0.0]}}}}"#,
-        p.join(",")
-    )
-}
-
-/// A directory with the tiny map and a stream of `n` frames one second apart.
+/// A directory with the tiny map (landmarks only) and a stream of `n` frames one second apart.
 fn setup(name: &str, n: usize) -> (PathBuf, PathBuf, PathBuf) {
     let d = scratch(name);
-    let map = d.join("tiny.map");
-    std::fs::write(&map, MAP).unwrap();
     let lines: Vec<String> = (0..n).map(|k| frame(k as f64)).collect();
-    let stream = d.join("s.jsonl");
-    std::fs::write(&stream, lines.join("\n") + "\n").unwrap();
+    let (map, stream) = landmarks::write(&d, false, &lines);
     (d, map, stream)
 }
 

@@ -2,6 +2,7 @@
 //! data set directories (TUM output parses back, exit codes, malformed lines reported with
 //! their file and line), then real MRCLAM robot 1 (skipped when the data set is absent).
 
+use crate::support::landmarks::{self, frame};
 use crate::support::lplace;
 use lplace::io::record::FrameRecord;
 use lplace::io::tum::read_tum;
@@ -12,38 +13,10 @@ fn scratch(name: &str) -> PathBuf {
     crate::support::scratch("cli_grid", name)
 }
 
-const MAP: &str = "map tiny;\n\
-landmark A at (0.0, 0.0) id 1;\n\
-landmark B at (3.0, 0.0) id 2;\n\
-landmark C at (0.0, 2.0) id 3;\n\
-place Middle spot at (1.0, 1.0) extent radius 0.5;\n";
-
-/// A frame at `t` of a robot standing at (1, 1) facing +x, seeing A, B and C.
-fn frame(t: f64) -> String {
-    let mut p = Vec::new();
-    for (name, lx, ly) in [("A", 0.0f64, 0.0f64), ("B", 3.0, 0.0), ("C", 0.0, 2.0)] {
-        let (dx, dy) = (lx - 1.0, ly - 1.0);
-        p.push(format!(
-            r#"{{"name":"landmark_range","args":["{name}"],"value":{},"degree":1.0}}"#,
-            dx.hypot(dy)
-        ));
-        p.push(format!(
-            r#"{{"name":"landmark_bearing","args":["{name}"],"value":{},"degree":1.0}}"#,
-            dy.atan2(dx).to_degrees()
-        ));
-    }
-    format!(
-        r#"{{"version":1,"t":{t},"odometry":{{"dx":0,"dy":0,"dtheta":0}},"percepts":[{}],"truth":{{"pose":[1.0,1.0,0.0]}}}}"#,
-        p.join(",")
-    )
-}
-
+/// A directory with the tiny map (with its place) and a stream of `lines`.
 fn setup(name: &str, lines: &[String]) -> (PathBuf, PathBuf, PathBuf) {
     let d = scratch(name);
-    let map = d.join("tiny.map");
-    std::fs::write(&map, MAP).unwrap();
-    let stream = d.join("s.jsonl");
-    std::fs::write(&stream, lines.join("\n") + "\n").unwrap();
+    let (map, stream) = landmarks::write(&d, true, lines);
     (d, map, stream)
 }
 

@@ -3,7 +3,7 @@
 //! readable truth bands, the trajectory has a metre scale bar, the stream's file name as its
 //! title, and place labels that do not overlap even for places a few centimetres apart.
 
-use crate::support::lplace;
+use crate::support::{landmarks, lplace};
 use std::path::PathBuf;
 
 fn temp(name: &str, text: &str) -> PathBuf {
@@ -170,13 +170,6 @@ fn trajectory_has_scale_bar_title_and_separate_labels() {
     }
 }
 
-/// Three landmarks around a robot standing at (1, 1) facing +x (as cli_grid's).
-const TINY_MAP: &str = "map tiny;\n\
-landmark A at (0.0, 0.0) id 1;\n\
-landmark B at (3.0, 0.0) id 2;\n\
-landmark C at (0.0, 2.0) id 3;\n\
-place Middle spot at (1.0, 1.0) extent radius 0.5;\n";
-
 /// `(x, y)` of each `landmark … at (x, y) id N` line of a map text, in id order.
 fn map_landmarks(map: &str) -> Vec<(f64, f64)> {
     let mut out: Vec<(u32, f64, f64)> = map
@@ -194,26 +187,6 @@ fn map_landmarks(map: &str) -> Vec<(f64, f64)> {
         .collect();
     out.sort_by_key(|m| m.0);
     out.into_iter().map(|(_, x, y)| (x, y)).collect()
-}
-
-/// A frame at `t` of the robot at (1, 1) reading the tiny map's landmarks exactly; its truth
-/// says it stands at `truth`.
-fn tiny_frame(t: f64, truth: (f64, f64)) -> String {
-    let mut p = Vec::new();
-    for (name, lx, ly) in [("A", 0.0f64, 0.0f64), ("B", 3.0, 0.0), ("C", 0.0, 2.0)] {
-        let (dx, dy) = (lx - 1.0, ly - 1.0);
-        p.push(format!(
-            r#"{{"name":"landmark_range","args":["{name}"],"value":{},"degree":1.0}},{{"name":"landmark_bearing","args":["{name}"],"value":{},"degree":1.0}}"#,
-            dx.hypot(dy),
-            dy.atan2(dx).to_degrees()
-        ));
-    }
-    format!(
-        r#"{{"version":1,"t":{t},"odometry":{{"dx":0,"dy":0,"dtheta":0}},"percepts":[{}],"truth":{{"pose":[{},{},0.0]}}}}"#,
-        p.join(","),
-        truth.0,
-        truth.1
-    )
 }
 
 /// The `viewBox="0 0 W H"` of an SVG's root element.
@@ -354,9 +327,9 @@ fn check_grid_picture(svg: &str, marks: &[(f64, f64)]) {
 fn grid_frames_have_metre_axes_a_legend_and_nothing_clipped() {
     let d = crate::support::scratch("cli_pictures", "grid");
     let map = d.join("tiny.map");
-    std::fs::write(&map, TINY_MAP).unwrap();
+    std::fs::write(&map, landmarks::tiny_map(true)).unwrap();
     let lines: Vec<String> = (0..5)
-        .map(|k| tiny_frame(k as f64 * 1.5, (1.0, 1.0)))
+        .map(|k| landmarks::frame_at(k as f64 * 1.5, (1.0, 1.0)))
         .collect();
     let stream = d.join("s.jsonl");
     std::fs::write(&stream, lines.join("\n") + "\n").unwrap();
@@ -394,7 +367,7 @@ fn grid_frames_have_metre_axes_a_legend_and_nothing_clipped() {
         );
         for f in std::fs::read_dir(&svg).unwrap() {
             let text = std::fs::read_to_string(f.unwrap().path()).unwrap();
-            check_grid_picture(&text, &map_landmarks(TINY_MAP));
+            check_grid_picture(&text, &map_landmarks(&landmarks::tiny_map(true)));
         }
     }
 }
@@ -479,10 +452,12 @@ fn sweep_values(csv: &str) -> Vec<f64> {
 fn sweep_axis_fits_the_data_and_the_title_names_the_data_set() {
     let d = crate::support::scratch("cli_pictures", "set-west");
     let map = d.join("tiny.map");
-    std::fs::write(&map, TINY_MAP).unwrap();
+    std::fs::write(&map, landmarks::tiny_map(true)).unwrap();
     // The truth half a metre east of where the readings put the robot: every error is about
     // 0.5 m, far from 0.
-    let lines: Vec<String> = (0..12).map(|k| tiny_frame(k as f64, (1.5, 1.0))).collect();
+    let lines: Vec<String> = (0..12)
+        .map(|k| landmarks::frame_at(k as f64, (1.5, 1.0)))
+        .collect();
     let stream = d.join("robot9.jsonl");
     std::fs::write(&stream, lines.join("\n") + "\n").unwrap();
     let svg = d.join("sweep.svg");

@@ -5,6 +5,7 @@ use assert_cmd::Command;
 use std::path::{Path, PathBuf};
 
 pub mod carmen;
+pub mod landmarks;
 pub mod mrclam;
 
 /// The `lplace` binary of this build, run from the crate root (so relative paths such as
