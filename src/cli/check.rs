@@ -4,7 +4,7 @@ use super::args::CheckArgs;
 use super::{read_source, render, CliError, EXIT_OK};
 use crate::engine::{compile, CompileOptions, OFFICE_MAP};
 use crate::map::Map;
-use crate::rules::{check_map_against_rules, check_rules};
+use crate::rules::{check_map_against_rules, check_rules, RuleSet};
 use crate::syntax::diagnostic::{Diagnostic, SourceFile};
 use crate::syntax::{parse_map, parse_rules};
 use std::io::Write;
@@ -47,6 +47,24 @@ fn fallback_map(args: &CheckArgs, no_maps: bool, errors: usize) -> Result<Source
         }
         None => Err(CliError::Diagnostics { count: errors }),
     }
+}
+
+/// Compiles checked rules over a map, printing the warnings (rules that never fire on this map);
+/// the file's "ok" line, or the number of errors printed.
+fn compile_rules(file: &SourceFile, checked: &RuleSet, map: &Map) -> Result<String, usize> {
+    let c = compile(checked, map, &CompileOptions::default()).map_err(|d| report(file, &d))?;
+    report(file, &c.warnings);
+    let warnings = match c.warnings.len() {
+        0 => String::new(),
+        n => format!("; {n} warning(s) about this map"),
+    };
+    Ok(format!(
+        "{}: ok ({} rules, {} percept instances, {} instructions{warnings})",
+        file.name,
+        checked.rules.len(),
+        c.percepts.len(),
+        c.tape.len(),
+    ))
 }
 
 /// Runs `check`; exit 0 when every file is clean.
@@ -93,15 +111,9 @@ pub fn run(args: &CheckArgs, out: &mut impl Write) -> Result<u8, CliError> {
                 *map_errors += n;
                 errors += n;
             }
-            match compile(&checked, map, &CompileOptions::default()) {
-                Ok(c) => rule_lines.push(format!(
-                    "{}: ok ({} rules, {} percept instances, {} instructions)",
-                    file.name,
-                    checked.rules.len(),
-                    c.percepts.len(),
-                    c.tape.len()
-                )),
-                Err(d) => errors += report(&file, &d),
+            match compile_rules(&file, &checked, map) {
+                Ok(line) => rule_lines.push(line),
+                Err(n) => errors += n,
             }
         }
     }

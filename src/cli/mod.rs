@@ -183,10 +183,14 @@ fn load_engine(
         Some(p) => read_source(p)?,
         None => SourceFile::new("rules/office.lpl (bundled)", OFFICE_RULES),
     };
-    Engine::load_with(&map, &rules, opts).map_err(|e| {
+    let engine = Engine::load_with(&map, &rules, opts).map_err(|e| {
         render::eprint(&e.file, &e.diagnostics);
         CliError::Diagnostics {
             count: e.diagnostics.len(),
         }
-    })
+    })?;
+    if !engine.warnings().is_empty() {
+        render::eprint(&rules, engine.warnings());
+    }
+    Ok(engine)
 }

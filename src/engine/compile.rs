@@ -18,7 +18,9 @@
 //!
 //! Map facts are constants, so most of a ground rule folds away at compile time; identical
 //! sub-expressions are shared (hash-consing). A rule whose every instance folds to the constant 0
-//! can never fire, and is reported as such rather than silently kept.
+//! can never fire on this map, and is reported as a warning rather than silently kept: the rule
+//! file's own checks already passed, so what it tests (walls, corners, parameters) is missing
+//! from the map's places — a map without corners is a map, not an error of the rules.
 
 use super::frame::{PerceptSlot, PerceptTable};
 use super::tape::{Op, Reg, Tape};
@@ -104,6 +106,9 @@ pub struct Compiled {
     pub group_exclusion: Vec<Vec<Reg>>,
     /// Rule instances (only with `CompileOptions::trace`).
     pub contributions: Vec<Contribution>,
+    /// Warnings about the rules on this map: rules that never fire on it
+    /// ([`NeverFiresReason::NotOnThisMap`]), in rule order.
+    pub warnings: Vec<Diagnostic>,
 }
 
 /// Builds the tape: folds constants and shares identical instructions.
@@ -558,8 +563,8 @@ struct Outputs {
     group_exclusion: Vec<Vec<Reg>>,
 }
 
-/// Compiles `rules` over `map`. Errors are the diagnostics of rules that can never fire and of
-/// recursive predicate definitions.
+/// Compiles `rules` over `map`. Errors are the diagnostics of recursive predicate definitions;
+/// rules that never fire on this map are warnings in [`Compiled::warnings`].
 pub fn compile(
     rules: &RuleSet,
     map: &Map,
@@ -573,9 +578,11 @@ pub fn compile(
     };
     let order = predicate_order(rules)?;
     let d = derive(&mut b, rules, map, &percepts, &order, opts);
-    never_fires(rules, &d.fires)?;
+    let warnings = never_fires(rules, &d.fires);
     let out = outputs(&mut b, rules, map, &d, opts);
-    Ok(prune(b, out, d.contributions, rules, percepts))
+    let mut compiled = prune(b, out, d.contributions, rules, percepts);
+    compiled.warnings = warnings;
+    Ok(compiled)
 }
 
 /// Grounds every rule in every context, in dependency order.
@@ -643,27 +650,22 @@ fn merge<K: Ord>(b: &mut Builder, acc: &mut BTreeMap<K, Reg>, key: K, reg: Reg) 
     acc.insert(key, merged);
 }
 
-/// The compiler's own never-fires check: every instance of the rule folded to 0.
-fn never_fires(rules: &RuleSet, fires: &[bool]) -> Result<(), Vec<Diagnostic>> {
-    let never: Vec<Diagnostic> = rules
+/// The compiler's own never-fires check: every instance of the rule folded to 0 on this map.
+fn never_fires(rules: &RuleSet, fires: &[bool]) -> Vec<Diagnostic> {
+    rules
         .rules
         .iter()
         .zip(fires)
         .filter(|(_, f)| !**f)
         .map(|(r, _)| {
-            Diagnostic::error(
+            Diagnostic::warning(
                 DiagnosticKind::RuleNeverFires {
-                    reason: NeverFiresReason::AlwaysZero,
+                    reason: NeverFiresReason::NotOnThisMap,
                 },
                 r.span,
             )
         })
-        .collect();
-    if never.is_empty() {
-        Ok(())
-    } else {
-        Err(never)
-    }
+        .collect()
 }
 
 fn unary(name: &str, arg: &str) -> GroundAtom {
@@ -902,6 +904,7 @@ fn prune(
         group_support: out.group_support,
         group_exclusion: out.group_exclusion,
         contributions,
+        warnings: Vec::new(),
     }
 }
 

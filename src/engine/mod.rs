@@ -206,6 +206,12 @@ impl Engine {
         &self.map
     }
 
+    /// Warnings about the rules on this map (rules that never fire on it), with spans in the
+    /// rule file: the engine runs, and a front end shows them.
+    pub fn warnings(&self) -> &[Diagnostic] {
+        &self.compiled.warnings
+    }
+
     /// The checked rule set.
     pub fn rules(&self) -> &RuleSet {
         &self.rules

@@ -124,8 +124,12 @@ impl fmt::Display for KeySuffix {
 /// Why a rule can never contribute a non-zero degree.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum NeverFiresReason {
-    /// The compiled body is the constant 0 in every context (found by the compiler).
+    /// The body is the constant 0 whatever the sensors say (a degree 0 in it, or a weight 0
+    /// inside it).
     AlwaysZero,
+    /// The compiled body is the constant 0 at every place of this map (found by the compiler):
+    /// the map's places lack what the rule tests. A warning, since the fix, if any, is in the map.
+    NotOnThisMap,
     /// The body needs a derived predicate that no rule concludes.
     NeverConcluded {
         /// The predicate.
@@ -140,7 +144,10 @@ pub enum NeverFiresReason {
 impl fmt::Display for NeverFiresReason {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            NeverFiresReason::AlwaysZero => f.write_str("its body is 0 for every place of the map"),
+            NeverFiresReason::AlwaysZero => f.write_str("its body is 0 whatever the sensors say"),
+            NeverFiresReason::NotOnThisMap => {
+                f.write_str("its body is 0 at every place of this map: no place has what it tests")
+            }
             NeverFiresReason::NeverConcluded { predicate } => {
                 write!(f, "its body needs `{predicate}`, which no rule concludes")
             }
@@ -619,6 +626,9 @@ impl DiagnosticKind {
             K::MapRelationNeedsDirections { .. } => {
                 "at_wall needs a percept with a `Dir` argument, at_corner one with two"
             }
+            K::RuleNeverFires { reason: NeverFiresReason::NotOnThisMap } => {
+                "describe in the map the walls, corners or parameters it tests at the places that have them; on this map it adds nothing"
+            }
             K::RuleNeverFires { .. } => {
                 "give it a positive weight or add a rule that concludes what it needs; or remove it"
             }
@@ -926,11 +936,11 @@ mod report {
         fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
             let errors = self.diagnostics.iter().filter(|d| d.is_error()).count();
             let warnings = self.diagnostics.len() - errors;
-            write!(f, "`{}`: {errors} error(s)", self.name)?;
-            if warnings > 0 {
-                write!(f, ", {warnings} warning(s)")?;
+            match (errors, warnings) {
+                (0, w) if w > 0 => write!(f, "`{}`: {w} warning(s)", self.name),
+                (e, 0) => write!(f, "`{}`: {e} error(s)", self.name),
+                (e, w) => write!(f, "`{}`: {e} error(s), {w} warning(s)", self.name),
             }
-            Ok(())
         }
     }
 
@@ -939,6 +949,15 @@ mod report {
     impl miette::Diagnostic for Report {
         fn source_code(&self) -> Option<&dyn SourceCode> {
             Some(&self.source)
+        }
+
+        /// A file with warnings only is reported as a warning, not under an error's cross.
+        fn severity(&self) -> Option<miette::Severity> {
+            Some(if self.diagnostics.iter().any(Diagnostic::is_error) {
+                miette::Severity::Error
+            } else {
+                miette::Severity::Warning
+            })
         }
 
         fn related<'a>(

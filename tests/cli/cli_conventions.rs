@@ -332,3 +332,78 @@ fn kidnap_by_is_one_comma_separated_value() {
         assert!(stderr_of(&out).contains("cannot read `no-such-stream.jsonl`"));
     }
 }
+
+/// A map with no corners is a map, not an error of the rules: the office rules that test
+/// corners never fire on it, which `check` says as warnings (exit 0) located at those rules and
+/// pointing at the map, and `eval` runs on it.
+#[test]
+fn a_map_without_corners_warns_and_runs() {
+    let d = scratch("conventions", "no_corners");
+    let office =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("maps/office.map"))
+            .expect("bundled map");
+    // Every `wall D;` and `corner A B;` statement removed: no place has a wall or a corner.
+    let is_feature = |st: &str| {
+        let t = st.trim_start();
+        t.starts_with("wall ") || t.starts_with("corner ")
+    };
+    let plain: String = office
+        .lines()
+        .map(|l| {
+            if l.contains("//") || !l.split(';').any(is_feature) {
+                return l.to_string();
+            }
+            l.split(';')
+                .filter(|st| !is_feature(st))
+                .collect::<Vec<_>>()
+                .join(";")
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(
+        !plain
+            .lines()
+            .any(|l| !l.contains("//") && l.split(';').any(is_feature)),
+        "{plain}"
+    );
+    let map = write(&d, "plain.map", &plain);
+    let out = lplace()
+        .arg("check")
+        .arg(&map)
+        .arg("rules/office.lpl")
+        .output()
+        .expect("runs");
+    let err = stderr_of(&out);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(!err.contains("error"), "{err}");
+    // The rules that need a corner or a wall at the place: the corner derivation and the two
+    // place rules built on corners and walls, found here from the rule file's text.
+    let rules =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("rules/office.lpl"))
+            .expect("bundled rules");
+    let corner_rule = 1 + rules
+        .lines()
+        .position(|l| l.trim_start().starts_with("|- ((sonar_wall(p1, d1, t)"))
+        .expect("the corner rule");
+    assert!(
+        err.contains(&format!("rules/office.lpl:{corner_rule}:1")),
+        "{err}"
+    );
+    assert!(err.contains("warning"), "{err}");
+    assert!(err.contains("describe in the map"), "{err}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("warning(s) about this map"), "{stdout}");
+    lplace()
+        .arg("eval")
+        .arg("--map")
+        .arg(&map)
+        .args([
+            "--rules",
+            "rules/office.lpl",
+            "--no-track",
+            "--summary",
+            "none",
+        ])
+        .assert()
+        .success();
+}
