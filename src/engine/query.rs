@@ -77,8 +77,10 @@ pub fn set_names(map: &Map, rules: &RuleSet) -> Vec<String> {
     let mut names: Vec<String> = map.places().iter().map(|p| p.name.clone()).collect();
     names.extend(map.rooms().iter().map(|r| r.name.clone()));
     names.extend(rules.regions.iter().map(|(g, _)| g.clone()));
+    // Kinds are few and places many: look names up in a set, not the list (n² at 10,000 places).
+    let mut seen: std::collections::HashSet<String> = names.iter().cloned().collect();
     for p in map.places() {
-        if !names.contains(&p.kind) {
+        if seen.insert(p.kind.clone()) {
             names.push(p.kind.clone());
         }
     }

@@ -23,9 +23,11 @@ pub struct StreamRun {
     tracker: Option<PlaceTracker>,
     tally: Tally,
     places: Vec<String>,
-    /// The names a record's `region` field may take, and their sets (same order).
+    /// The names a record's `region` field may take, and their sets (same order), each resolved
+    /// when a record first names it: every place is such a name, and a set per place up front
+    /// would cost places² bytes (100 MB at 10,000 places).
     region_names: Vec<String>,
-    regions: Vec<PlaceSet>,
+    regions: Vec<Option<PlaceSet>>,
 }
 
 impl StreamRun {
@@ -48,10 +50,7 @@ impl StreamRun {
         });
         let tally = Tally::new(places.clone(), tracker.is_some());
         let region_names = crate::engine::query::set_names(engine.map(), engine.rules());
-        let regions = region_names
-            .iter()
-            .filter_map(|n| engine.query_set(n).ok())
-            .collect();
+        let regions = vec![None; region_names.len()];
         StreamRun {
             engine,
             tracker,
@@ -92,9 +91,18 @@ impl StreamRun {
         }
     }
 
-    /// Steps one accepted frame and counts its decision. A record's `region` field conditions the engine on that set (a region known from outside).
+    /// Steps one accepted frame and counts its decision. A record's `region` field conditions
+    /// the engine on that set (a region known from outside).
     pub fn step(&mut self, frame: &Frame, meta: &FrameMeta) -> Decision {
-        let known = meta.region.and_then(|r| self.regions.get(r as usize));
+        let known = match meta.region.map(|r| r as usize) {
+            Some(r) if r < self.regions.len() && r < self.region_names.len() => {
+                if self.regions[r].is_none() {
+                    self.regions[r] = self.engine.query_set(&self.region_names[r]).ok();
+                }
+                self.regions[r].as_ref()
+            }
+            _ => None,
+        };
         self.engine.step_within(frame, known);
         let d = match &mut self.tracker {
             Some(t) => t.step(
