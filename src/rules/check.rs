@@ -80,6 +80,10 @@ pub struct RuleSet {
     /// Declared evidence groups in declaration order (a rule's group is its position + 1;
     /// group 0 holds the rules written outside any group).
     pub groups: Vec<String>,
+    /// The place parameters `(name, key)` the rules read that some place of the map defines
+    /// (one that no place defines is an error): [`check_map_against_rules`] names the places
+    /// that lack one.
+    pub params: BTreeSet<(String, Option<String>)>,
 }
 
 impl RuleSet {
@@ -115,6 +119,7 @@ pub fn check_rules(file: &RuleFile, map: &Map) -> Result<RuleSet, Vec<Diagnostic
             rules: Vec::new(),
             regions: Vec::new(),
             groups: Vec::new(),
+            params: BTreeSet::new(),
         },
         domain_spans: BTreeMap::new(),
         grounded: 0,
@@ -142,20 +147,49 @@ pub fn check_rules(file: &RuleFile, map: &Map) -> Result<RuleSet, Vec<Diagnostic
 }
 
 /// Checks the map's `wall` and `corner` directions against the rule set's `Dir` domain (when it
-/// declares one). The diagnostics point into the **map** file.
+/// declares one), and warns at each place that lacks parameters the rules read elsewhere. The
+/// diagnostics point into the **map** file.
 pub fn check_map_against_rules(map: &Map, rules: &RuleSet) -> Vec<Diagnostic> {
-    let Some(dirs) = rules.domains.get("Dir") else {
-        return Vec::new();
-    };
     let mut out = Vec::new();
-    for p in map.places() {
-        for (d, span) in &p.direction_spans {
-            if !dirs.contains(d) {
-                out.push(Diagnostic::error(
-                    DiagnosticKind::UnknownDirection { name: d.clone() },
-                    *span,
-                ));
+    if let Some(dirs) = rules.domains.get("Dir") {
+        for p in map.places() {
+            for (d, span) in &p.direction_spans {
+                if !dirs.contains(d) {
+                    out.push(Diagnostic::error(
+                        DiagnosticKind::UnknownDirection { name: d.clone() },
+                        *span,
+                    ));
+                }
             }
+        }
+    }
+    out.extend(places_lacking_params(map, rules));
+    out
+}
+
+/// A warning at each place that lacks some of the parameters the rules read at other places:
+/// the rules that read one give that place no evidence from it, which a survey or a typo may
+/// have left unnoticed. One warning per place, naming what it lacks.
+fn places_lacking_params(map: &Map, rules: &RuleSet) -> Vec<Diagnostic> {
+    let mut out = Vec::new();
+    for (i, p) in map.places().iter().enumerate() {
+        let missing: Vec<String> = rules
+            .params
+            .iter()
+            .filter(|(name, key)| map.expected(i, name, key.as_deref()).is_none())
+            .map(|(name, key)| match key {
+                Some(k) => format!("{name}({k})"),
+                None => name.clone(),
+            })
+            .collect();
+        if !missing.is_empty() {
+            out.push(Diagnostic::warning(
+                DiagnosticKind::PlaceLacksParameters {
+                    place: p.name.clone(),
+                    params: missing.join(", "),
+                },
+                p.span,
+            ));
         }
     }
     out
@@ -1050,9 +1084,14 @@ impl Checker<'_> {
                         }
                     },
                 };
-                let defined = keys
+                let mut defined = false;
+                for k in keys
                     .iter()
-                    .any(|k| self.map.defines_param(name, k.as_deref()));
+                    .filter(|k| self.map.defines_param(name, k.as_deref()))
+                {
+                    self.set.params.insert((name.clone(), k.clone()));
+                    defined = true;
+                }
                 if !defined && !keys.is_empty() {
                     self.err(
                         DiagnosticKind::UndefinedParameter {

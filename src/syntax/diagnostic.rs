@@ -505,6 +505,14 @@ pub enum DiagnosticKind {
         /// Which one.
         name: String,
     },
+    /// A place without parameters that the rules read at other places (a warning).
+    #[error("place `{place}` has no {params}, which the rules read at other places")]
+    PlaceLacksParameters {
+        /// The place.
+        place: String,
+        /// What it lacks, comma-separated (`A, L` or `free(North)`).
+        params: String,
+    },
     /// A wall or corner direction that is not a value of the rule file's `Dir` domain.
     #[error("direction `{name}` is not a value of the rules' `Dir` domain")]
     UnknownDirection {
@@ -644,6 +652,9 @@ impl DiagnosticKind {
             K::SelfPath { .. } => "paths join two different places",
             K::DuplicateFeature { .. } => "keep one of the two lines",
             K::UnknownDirection { .. } => "use one of the values of `domain Dir` in the rule file",
+            K::PlaceLacksParameters { .. } => {
+                "add the `param …` lines to the place (as `lplace survey` writes them); without them the rules that read them give it no evidence"
+            }
             K::DuplicateMapName => "keep one `map name;` line",
             K::DuplicateMapStatement { .. } => "keep one of the two statements",
             K::AxisOutOfRange { .. } => {

@@ -407,3 +407,38 @@ fn a_map_without_corners_warns_and_runs() {
         .assert()
         .success();
 }
+
+/// A place without the parameters the rules read at the other places is accepted (a survey may
+/// leave one unvisited) but named, as a warning located at the place in the map.
+#[test]
+fn a_place_without_the_rules_parameters_is_named() {
+    let d = scratch("conventions", "lacks_params");
+    let office =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("maps/office.map"))
+            .expect("bundled map");
+    let line = "param A = 116.6; param L = 1.12;";
+    assert_eq!(office.matches(line).count(), 1, "P2's beacon signature");
+    let map = write(&d, "np.map", &office.replacen(line, "", 1));
+    let out = lplace()
+        .arg("check")
+        .arg(&map)
+        .arg("rules/office.lpl")
+        .output()
+        .expect("runs");
+    let err = stderr_of(&out);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let p2 = 1 + office
+        .lines()
+        .position(|l| l.starts_with("place P2 "))
+        .expect("P2");
+    assert!(err.contains(&format!("np.map:{p2}:1")), "{err}");
+    assert!(err.contains("place `P2` has no A, L"), "{err}");
+    // One warning: the other places have both.
+    assert_eq!(err.matches("has no").count(), 1, "{err}");
+    // The bundled map has every parameter at every place: nothing to say.
+    let out = lplace()
+        .args(["check", "maps/office.map", "rules/office.lpl"])
+        .output()
+        .expect("runs");
+    assert!(out.stderr.is_empty(), "{}", stderr_of(&out));
+}

@@ -41,9 +41,14 @@ fn diagnose(file: &SourceFile) -> Vec<Diagnostic> {
         let rules = read("rules/office.lpl");
         let ast = parse_rules(&rules.text).expect("office rules parse");
         // The office rules mention places of the office map; check them there, then cross-check
-        // this map's directions against the resulting rule set.
+        // this map's directions against the resulting rule set. Only its errors: the corpus map
+        // was not written for the office rules, so their parameters are missing from its places
+        // (a warning each, tested in the CLI tests).
         let set = check_rules(&ast, &office_map()).expect("office rules check");
         check_map_against_rules(&map, &set)
+            .into_iter()
+            .filter(|d| d.is_error())
+            .collect()
     }
 }
 
