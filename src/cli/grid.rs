@@ -20,8 +20,9 @@ use super::args::{Format, FrameInput, GridArgs, KidnapArgs};
 use super::output::{self, Output};
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::grid::place::map_landmarks;
-use crate::grid::{GridConfig, LandmarkTable};
+use crate::grid::{GridConfig, LandmarkTable, LandmarkTruth};
 use crate::io::landmark_stream;
+use crate::io::mrclam_dir::{self, Dataset};
 use crate::io::mrclam_stream::RecordReader;
 use crate::io::stream::{StreamFormat, StreamReader};
 use crate::io::tum::{write_tum, TumPose};
@@ -162,22 +163,34 @@ pub(super) struct LoadedFrames {
 }
 
 /// Reads `input`'s map and records (stream or MRCLAM files) and converts them to frames;
-/// malformed lines are reported on stderr and counted in [`LoadedFrames::rejected`].
+/// malformed lines are reported on stderr and counted in [`LoadedFrames::rejected`]. Which
+/// landmark map is used ([`frame_map`]) is said on stderr.
 pub(super) fn load_frames(input: &FrameInput) -> Result<LoadedFrames, CliError> {
-    let map = load_map(input.map.as_deref())?;
+    let dataset = match (&input.from_dir, &input.stream) {
+        (Some(dir), _) => {
+            let robot = input.robot.ok_or_else(|| bad("--from-dir needs --robot"))?;
+            let dir = super::data::resolve(dir);
+            Some((super::extract::load_mrclam_dir(&dir, &[robot])?, robot))
+        }
+        (None, Some(_)) => None,
+        (None, None) => return Err(bad("no STREAM given")),
+    };
+    let (map, source) = frame_map(input.map.as_deref(), dataset.as_ref().map(|d| &d.0 .0))?;
     let (table, names) = map_landmarks(&map).map_err(bad)?;
     if table.landmarks().is_empty() {
         return Err(bad("the map has no landmark with an id"));
     }
+    eprintln!(
+        "landmarks: {source} ({} landmarks)",
+        table.landmarks().len()
+    );
     let mut reader = RecordReader::new(names);
     reader.min_degree = input.min_degree;
-    let (frames, rejected) = match (&input.from_dir, &input.stream) {
-        (Some(dir), _) => {
-            let robot = input.robot.ok_or_else(|| bad("--from-dir needs --robot"))?;
-            let dir = super::data::resolve(dir);
-            let (records, rejected) = super::extract::load_mrclam(&dir, robot, &map)?;
+    let (frames, rejected) = match (dataset, &input.stream) {
+        (Some(((data, malformed), robot)), _) => {
+            let records = super::extract::mrclam_records(&data, robot, &map, malformed)?;
             let frames = records.iter().map(|r| reader.convert(r)).collect();
-            (frames, rejected)
+            (frames, malformed)
         }
         (None, Some(path)) => read_stream(
             &super::data::resolve(path),
@@ -193,6 +206,46 @@ pub(super) fn load_frames(input: &FrameInput) -> Result<LoadedFrames, CliError> 
         reader,
         rejected,
     })
+}
+
+/// The landmark map of a frame input, and its name for stderr: `--map`; else, with
+/// `--from-dir`, the directory's own survey (`Landmark_Groundtruth.dat`), so that another
+/// MRCLAM data set is read against its own landmarks; else the bundled MRCLAM map.
+fn frame_map(path: Option<&Path>, data: Option<&Dataset>) -> Result<(Map, String), CliError> {
+    if let Some(p) = path {
+        return Ok((load_map(Some(p))?, p.display().to_string()));
+    }
+    match data.and_then(|d| d.landmarks.as_deref().map(|s| (d, s))) {
+        Some((d, survey)) => {
+            let file = d.dir.join(mrclam_dir::LANDMARKS);
+            Ok((survey_map(survey, &file)?, file.display().to_string()))
+        }
+        None => Ok((load_map(None)?, "maps/mrclam.map (bundled)".to_string())),
+    }
+}
+
+/// A landmark survey as a map of landmarks `L<subject>` with id `<subject>`, the names and ids
+/// of the bundled MRCLAM map. Built as map text and parsed, so that it is the map every
+/// command reads; `{}` prints the shortest decimal that parses back to the same number, so the
+/// positions are the survey's to the last bit.
+fn survey_map(survey: &[LandmarkTruth], file: &Path) -> Result<Map, CliError> {
+    let mut text = String::from("map survey;\n");
+    for l in survey {
+        if !(l.x.is_finite() && l.y.is_finite()) {
+            return Err(bad(format!(
+                "{}: landmark {} has no finite position",
+                file.display(),
+                l.subject
+            )));
+        }
+        text.push_str(&format!(
+            "landmark L{0} at ({1}, {2}) id {0};\n",
+            l.subject, l.x, l.y
+        ));
+    }
+    let fail = |_| bad(format!("{}: the survey is not a map", file.display()));
+    let ast = parse_map(&text).map_err(fail)?;
+    Map::from_ast(&ast).map_err(fail)
 }
 
 /// Reads a RON configuration file and parses it with `parse`; a parse error is reported with

@@ -47,6 +47,20 @@ pub const RANGE: &str = "landmark_range";
 /// frame, counter-clockwise, in (−180, 180]).
 pub const BEARING: &str = "landmark_bearing";
 
+/// MRCLAM's subject ids of the robots (the data set's README: 1–5 robots, 6–20 landmarks).
+pub const ROBOTS: std::ops::RangeInclusive<u32> = 1..=5;
+
+/// A robot's subject name in a stream (`Robot4`), for sightings of another robot.
+pub fn robot_name(id: u32) -> String {
+    format!("Robot{id}")
+}
+
+/// The robot a subject name of [`robot_name`]'s form names, if any.
+pub fn robot_of(name: &str) -> Option<u32> {
+    let id = name.strip_prefix("Robot")?.parse().ok()?;
+    ROBOTS.contains(&id).then_some(id)
+}
+
 /// Reliability of a camera sighting at `range` metres, used as the percept's degree.
 ///
 /// The barcode shrinks in the image with distance, so far readings are misread and mis-ranged
@@ -113,8 +127,11 @@ pub fn to_record(
 pub struct ReadStats {
     /// Range or bearing percepts without their partner in the same record.
     pub unpaired: usize,
-    /// Landmark percepts naming no subject the reader knows (other robots, typos).
+    /// Landmark percepts naming no subject the reader knows, other robots aside (a map that
+    /// misses landmarks, typos).
     pub unknown: usize,
+    /// Sightings of other robots ([`robot_of`] names) the reader does not know as landmarks.
+    pub robots: usize,
     /// Landmark percepts below the reader's minimum degree, or with no finite value.
     pub dropped: usize,
 }
@@ -234,6 +251,7 @@ impl RecordReader {
                     range,
                     bearing,
                 }),
+                None if robot_of(name).is_some() => self.stats.robots += 1,
                 None => self.stats.unknown += 1,
             }
         }
