@@ -97,6 +97,11 @@ pub fn run(args: &GridArgs, out: &mut impl Write) -> Result<u8, CliError> {
     inputs.extend(args.config.as_deref().map(|p| ("--config", p)));
     let outputs: Vec<Output<'_>> = (args.tum.as_deref().map(|p| Output::file("--tum", p)))
         .into_iter()
+        .chain(
+            args.truth_tum
+                .as_deref()
+                .map(|p| Output::file("--truth-tum", p)),
+        )
         .chain(args.svg.as_deref().map(|p| Output::folder("--svg", p)))
         .collect();
     output::check(&outputs, &inputs)?;
@@ -113,9 +118,6 @@ pub fn run(args: &GridArgs, out: &mut impl Write) -> Result<u8, CliError> {
     let (table, frames) = (&input.table, &input.frames);
     let report =
         run_grid(table, &cfg, frames.iter().cloned(), &RunOptions::default()).map_err(bad)?;
-    if let Some(path) = &args.tum {
-        write_trajectory(path, &report.frames)?;
-    }
     let kidnapped = match kidnap(&args.kidnap, frames)? {
         None => None,
         Some((after, k)) => {
@@ -129,25 +131,42 @@ pub fn run(args: &GridArgs, out: &mut impl Write) -> Result<u8, CliError> {
             ))
         }
     };
+    if let Some(path) = &args.tum {
+        // With a kidnap, the trajectory is the kidnapped run's: the one whose recovery is told.
+        let ran = kidnapped.as_ref().map_or(&report, |k| &k.1);
+        write_trajectory(path, &ran.frames)?;
+    }
+    if let Some(path) = &args.truth_tum {
+        write_truth(path, &report.frames)?;
+    }
     if let Some(dir) = &args.svg {
         write_frames(dir, table, &cfg, frames, &input_title(&args.input))?;
     }
     if let Some(s) = &spinner {
         s.finish_and_clear();
     }
-    print_scores(
-        out,
-        args.json || matches!(args.format, Some(Format::Json | Format::Jsonl)),
-        &report,
-        kidnapped.as_ref(),
-        &input.reader,
-        input.rejected,
-    )?;
-    Ok(if input.rejected > 0 {
+    let json = args.json || matches!(args.format, Some(Format::Json | Format::Jsonl));
+    print_scores(out, json, &report, kidnapped.as_ref(), &input)?;
+    let unmatched = warn_if_unmatched(&input);
+    Ok(if input.rejected > 0 || unmatched {
         EXIT_REJECTED
     } else {
         EXIT_OK
     })
+}
+
+/// Warns on stderr when no reading named a landmark of the map although some named subjects
+/// it does not know (the map is not the stream's); true when it warned (exit 3).
+pub(super) fn warn_if_unmatched(input: &LoadedFrames) -> bool {
+    let matched: usize = input.frames.iter().map(|f| f.observations.len()).sum();
+    let unknown = input.reader.stats.unknown;
+    if matched > 0 || unknown == 0 {
+        return false;
+    }
+    eprintln!(
+        "warning: no reading names a landmark of the map ({unknown} reading(s) of unknown subjects): is it the map of these readings?"
+    );
+    true
 }
 
 /// Frames read and converted, ready to drive.
@@ -314,6 +333,23 @@ pub(super) fn write_trajectory(path: &Path, frames: &[FrameEstimate]) -> Result<
     output::write_atomic(path, |w| write_tum(w, &poses))
 }
 
+/// Writes the frames' truth poses as a TUM trajectory, in [`write_trajectory`]'s format;
+/// frames without truth are left out.
+fn write_truth(path: &Path, frames: &[FrameEstimate]) -> Result<(), CliError> {
+    let poses: Vec<TumPose> = frames
+        .iter()
+        .filter_map(|f| {
+            f.truth.map(|p| TumPose {
+                t: f.t,
+                x: p.x,
+                y: p.y,
+                yaw: p.theta,
+            })
+        })
+        .collect();
+    output::write_atomic(path, |w| write_tum(w, &poses))
+}
+
 /// The files a [`FrameInput`] reads, as inputs no output may overwrite.
 pub(super) fn frame_inputs(input: &FrameInput) -> Vec<(&'static str, &Path)> {
     let map = input.map.as_deref().map(|p| ("--map", p));
@@ -356,18 +392,19 @@ pub(super) fn output_error(path: &Path, source: std::io::Error) -> CliError {
     }
 }
 
+/// The scores, as text or as one JSON object.
 fn print_scores(
     out: &mut impl Write,
     json: bool,
     r: &RunReport,
     kidnapped: Option<&(f64, RunReport)>,
-    reader: &RecordReader,
-    rejected: usize,
+    input: &LoadedFrames,
 ) -> Result<(), CliError> {
     let recovery = kidnapped.map(|(at, k)| match k.recovery {
         Some(Recovery::Recovered { after }) => (*at, Some(after)),
         _ => (*at, None),
     });
+    let stats = &input.reader.stats;
     if json {
         let v = serde_json::json!({
             "frames": r.frames.len(),
@@ -375,13 +412,15 @@ fn print_scores(
             "ate_all": r.ate_all,
             "heading_rmse": r.heading_rmse,
             "first_fix": r.first_fix.map(|f| f.after),
+            "first_fix_t": r.first_fix_time(),
             "kidnap_at": recovery.map(|x| x.0),
             "recovery": recovery.and_then(|x| x.1),
             "used": r.used,
-            "unknown": r.unknown + reader.stats.unknown,
-            "unpaired": reader.stats.unpaired,
-            "dropped": reader.stats.dropped,
-            "rejected_lines": rejected,
+            "unknown": r.unknown + stats.unknown + stats.robots,
+            "other_robots": stats.robots,
+            "unpaired": stats.unpaired,
+            "dropped": stats.dropped,
+            "rejected_lines": input.rejected,
         });
         writeln!(out, "{v}")?;
         return Ok(());
@@ -402,7 +441,14 @@ fn print_scores(
         f(r.ate_all.map(|a| a.rmse))
     )?;
     writeln!(out, "heading RMSE: {} rad", f(r.heading_rmse))?;
-    writeln!(out, "first fix: {} s", f(r.first_fix.map(|x| x.after)))?;
+    match r.first_fix_time() {
+        Some(t) => writeln!(
+            out,
+            "first fix: {} s (t = {t:.3})",
+            f(r.first_fix.map(|x| x.after))
+        )?,
+        None => writeln!(out, "first fix: – s")?,
+    }
     if let Some((at, rec)) = recovery {
         match rec {
             Some(s) => writeln!(out, "kidnap at {at:.1} s: recovered after {s:.1} s")?,
@@ -411,12 +457,13 @@ fn print_scores(
     }
     writeln!(
         out,
-        "readings: {} used, {} thinned, {} of unknown subjects, {} unpaired, {} below --min-degree",
+        "readings: {} used, {} thinned, {} of other robots, {} of unknown subjects, {} unpaired, {} below --min-degree",
         r.used,
         r.thinned,
-        r.unknown + reader.stats.unknown,
-        reader.stats.unpaired,
-        reader.stats.dropped
+        stats.robots,
+        r.unknown + stats.unknown,
+        stats.unpaired,
+        stats.dropped
     )?;
     Ok(())
 }
