@@ -199,10 +199,9 @@ pub(super) fn load_frames(input: &FrameInput) -> Result<LoadedFrames, CliError> 
     if table.landmarks().is_empty() {
         return Err(bad("the map has no landmark with an id"));
     }
-    eprintln!(
-        "landmarks: {source} ({} landmarks)",
-        table.landmarks().len()
-    );
+    let n = table.landmarks().len();
+    let plural = if n == 1 { "" } else { "s" };
+    eprintln!("landmarks: {source} ({n} landmark{plural})");
     let mut reader = RecordReader::new(names);
     reader.min_degree = input.min_degree;
     let (frames, rejected) = match (dataset, &input.stream) {
