@@ -590,6 +590,43 @@ fn opt(v: Option<f64>, digits: usize) -> String {
     v.map_or("–".to_string(), |v| format!("{v:.digits$}"))
 }
 
+/// The notes under the main table: how R-MCL made its estimates, the first fixes on the log's
+/// clock, the kidnap, and what the columns mean.
+fn print_notes(out: &mut impl Write, rows: &[MethodRow]) -> Result<(), CliError> {
+    for r in rows {
+        if let Some(c) = r.rmcl {
+            writeln!(
+                out,
+                "\n{}: estimate from fresh samples in {} of {} frames, from samples carried by odometry in {}, the grid's after a failed sampling in {}, the grid's (no samples yet) in the rest",
+                r.method, c.sampled, r.frames, c.carried, c.fallbacks
+            )?;
+        }
+    }
+    let fixes: Vec<String> = rows
+        .iter()
+        .filter_map(|r| Some(format!("{} t = {:.3}", r.method, r.first_fix_t?)))
+        .collect();
+    if !fixes.is_empty() {
+        writeln!(
+            out,
+            "\nfirst fix on the log's clock (evo_ape --t_start): {}",
+            fixes.join(", ")
+        )?;
+    }
+    if let Some(at) = rows.first().and_then(|r| r.kidnap_at) {
+        writeln!(out, "\nkidnap injected {at:.1} s after the first frame")?;
+    }
+    let window = match rows.first().and_then(|r| r.common_from) {
+        Some(s) => format!("from {s:.1} s, the latest first fix of the methods above"),
+        None => "none: some method never has a fix".to_string(),
+    };
+    writeln!(
+        out,
+        "\nATE: position error vs truth, no alignment, RMSE / median / max from each method's own first fix; ATE common window: RMSE over the frames where every method above has had its fix ({window}); ATE all frames: RMSE from the first frame. time/step: wall time of the run / frames."
+    )?;
+    Ok(())
+}
+
 fn print_table(
     out: &mut impl Write,
     rows: &[MethodRow],
@@ -622,37 +659,7 @@ fn print_table(
             r.time_per_step_us
         )?;
     }
-    for r in rows {
-        if let Some(c) = r.rmcl {
-            writeln!(
-                out,
-                "\n{}: estimate from fresh samples in {} of {} frames, from samples carried by odometry in {}, the grid's after a failed sampling in {}, the grid's (no samples yet) in the rest",
-                r.method, c.sampled, r.frames, c.carried, c.fallbacks
-            )?;
-        }
-    }
-    let fixes: Vec<String> = rows
-        .iter()
-        .filter_map(|r| Some(format!("{} t = {:.3}", r.method, r.first_fix_t?)))
-        .collect();
-    if !fixes.is_empty() {
-        writeln!(
-            out,
-            "\nfirst fix on the log's clock (evo_ape --t_start): {}",
-            fixes.join(", ")
-        )?;
-    }
-    if let Some(at) = rows.first().and_then(|r| r.kidnap_at) {
-        writeln!(out, "\nkidnap injected {at:.1} s after the first frame")?;
-    }
-    let window = match rows.first().and_then(|r| r.common_from) {
-        Some(s) => format!("from {s:.1} s, the latest first fix of the methods above"),
-        None => "none: some method never has a fix".to_string(),
-    };
-    writeln!(
-        out,
-        "\nATE: position error vs truth, no alignment, RMSE / median / max from each method's own first fix; ATE common window: RMSE over the frames where every method above has had its fix ({window}); ATE all frames: RMSE from the first frame. time/step: wall time of the run / frames."
-    )?;
+    print_notes(out, rows)?;
     for (sweep, title) in [
         (
             "noise",

@@ -5,8 +5,10 @@
 //! time after an injected kidnap. `--svg DIR` draws a few grid frames (paper 000 figs. 3/5).
 //!
 //! Landmark positions come from the map's `landmark … id N` lines, so the stream's
-//! `landmark_range(NAME)` percepts are resolved by name. With no `--map`, the bundled
-//! `maps/mrclam.map` is used. The stream is read by the same reader as `lplace eval`'s
+//! `landmark_range(NAME)` percepts are resolved by name. With no `--map`, `--from-dir DIR` reads
+//! DIR's own landmark survey, and a stream (or a directory without one) the bundled
+//! `maps/mrclam.map`; the map used is named on stderr. A map that names no reading at all ends
+//! with a warning and exit 3. `--truth-tum` writes the frames' truth beside the trajectory. The stream is read by the same reader as `lplace eval`'s
 //! (`io::landmark_stream`): rejected records are reported on stderr as STREAM:LINE: reason and
 //! skipped (exit 3 at the end). A `.csv` stream is read as CSV.
 //!

@@ -271,3 +271,35 @@ pub struct Reading<'a> {
     /// Reliability.
     pub degree: f64,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn robot_names_go_both_ways_for_the_five_robots_only() {
+        for id in ROBOTS {
+            assert_eq!(robot_of(&robot_name(id)), Some(id));
+        }
+        for name in ["Robot0", "Robot6", "Robot", "Robot-1", "robot2", "L6", "S7"] {
+            assert_eq!(robot_of(name), None, "{name}");
+        }
+    }
+
+    #[test]
+    fn the_reader_counts_other_robots_apart_from_unknown_subjects() {
+        let mut r = RecordReader::new([("L6".to_string(), 6)]);
+        let read = |subject| {
+            [RANGE, BEARING].map(|name| Reading {
+                name,
+                subject: Some(subject),
+                value: Some(1.0),
+                degree: 1.0,
+            })
+        };
+        let percepts = [read("L6"), read("Robot2"), read("Robot5"), read("S9")].concat();
+        let f = r.convert_parts(Some(1.0), Odometry::default(), None, percepts);
+        assert_eq!(f.observations.len(), 1);
+        assert_eq!((r.stats.robots, r.stats.unknown), (2, 1));
+    }
+}
