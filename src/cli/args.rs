@@ -490,9 +490,13 @@ pub struct GridArgs {
     /// Cell size in metres (overrides the configuration's).
     #[arg(long, value_name = "METRES")]
     pub cell: Option<f32>,
-    /// Write the estimated trajectory here (TUM: `t x y z qx qy qz qw`).
+    /// Write the estimated trajectory here (TUM: `t x y z qx qy qz qw`); with --kidnap-at,
+    /// the kidnapped run's.
     #[arg(long, value_name = "FILE")]
     pub tum: Option<PathBuf>,
+    /// Write the frames' truth poses here, in the same TUM format (for evo_ape against --tum).
+    #[arg(long, value_name = "FILE")]
+    pub truth_tum: Option<PathBuf>,
     /// Write a few grid frames as SVG into this directory (created if needed).
     #[arg(long, value_name = "DIR")]
     pub svg: Option<PathBuf>,
@@ -546,8 +550,9 @@ pub struct CompareArgs {
     /// Seed of the sampling methods and of the sweeps' perturbations (same seed, same output).
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub seed: u64,
-    /// Write each method's trajectory (unperturbed run) into this directory as METHOD.tum
-    /// (`pf:500` → pf-500.tum); the directory is created if needed.
+    /// Write each method's trajectory (unperturbed run; with --kidnap-at, the kidnapped run)
+    /// into this directory as METHOD.tum (`pf:500` → pf-500.tum); the directory is created if
+    /// needed.
     #[arg(long, value_name = "DIR")]
     pub tum_dir: Option<PathBuf>,
     /// The kidnap.

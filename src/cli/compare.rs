@@ -228,6 +228,8 @@ struct MethodRow {
     common_from: Option<f64>,
     heading_rmse: Option<f64>,
     first_fix: Option<f64>,
+    /// The first fix on the log's own clock (for `evo_ape --t_start`).
+    first_fix_t: Option<f64>,
     kidnap_at: Option<f64>,
     /// Seconds to recover; `None` with `kidnap_at` set means not recovered.
     recovery: Option<f64>,
@@ -235,7 +237,10 @@ struct MethodRow {
     time_per_step_us: f64,
     used: usize,
     thinned: usize,
+    /// Readings of subjects not in the map, other robots included.
     unknown: usize,
+    /// Of those, the sightings of other robots.
+    other_robots: usize,
     rejected_readings: usize,
     /// R-MCL: how its estimates were made.
     rmcl: Option<RmclCounts>,
@@ -311,7 +316,8 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
         }
         Format::Csv => print_csv(out, &rows, &points)?,
     }
-    Ok(if input.rejected > 0 {
+    let unmatched = super::grid::warn_if_unmatched(&input);
+    Ok(if input.rejected > 0 || unmatched {
         EXIT_REJECTED
     } else {
         EXIT_OK
@@ -378,23 +384,27 @@ fn method_rows(
             b.inc(1);
         }
         let ran = run_method(m, setup, frames, &RunOptions::default())?;
-        if let Some(dir) = &args.tum_dir {
-            write_trajectory(&dir.join(m.file_name()), &ran.report.frames)?;
-        }
-        let recovery = match kidnapped {
+        let kidnap_run = match kidnapped {
             None => None,
             Some((_, k)) => {
                 let opts = RunOptions {
                     kidnap: Some(k),
                     ..RunOptions::default()
                 };
-                match run_method(m, setup, frames, &opts)?.report.recovery {
-                    Some(Recovery::Recovered { after }) => Some(after),
-                    _ => None,
-                }
+                Some(run_method(m, setup, frames, &opts)?.report)
             }
         };
-        let (kidnap_at, unknown) = (kidnapped.map(|k| k.0), input.reader.stats.unknown);
+        if let Some(dir) = &args.tum_dir {
+            // With a kidnap, the trajectory is the kidnapped run's, as `grid --tum` writes.
+            let written = kidnap_run.as_ref().unwrap_or(&ran.report);
+            write_trajectory(&dir.join(m.file_name()), &written.frames)?;
+        }
+        let recovery = match kidnap_run.and_then(|r| r.recovery) {
+            Some(Recovery::Recovered { after }) => Some(after),
+            _ => None,
+        };
+        let stats = input.reader.stats;
+        let (kidnap_at, unknown) = (kidnapped.map(|k| k.0), (stats.unknown, stats.robots));
         rows.push(method_row(m, &ran, kidnap_at, recovery, unknown));
         reports.push(ran.report);
     }
@@ -411,13 +421,14 @@ fn method_rows(
 }
 
 /// The row of method `m` from its run, before the common window is known; `unknown_read` counts
-/// the readings the input's reader could not place, added to the run's own.
+/// the readings the input's reader could not place (unknown subjects, other robots), added to
+/// the run's own.
 fn method_row(
     m: MethodSpec,
     ran: &Ran,
     kidnap_at: Option<f64>,
     recovery: Option<f64>,
-    unknown_read: usize,
+    unknown_read: (usize, usize),
 ) -> MethodRow {
     let Ran { report, took, rmcl } = ran;
     let n = report.frames.len();
@@ -428,6 +439,7 @@ fn method_row(
         ate_all: report.ate_all,
         heading_rmse: report.heading_rmse,
         first_fix: report.first_fix.map(|f| f.after),
+        first_fix_t: report.first_fix_time(),
         kidnap_at,
         recovery,
         wall_s: took.as_secs_f64(),
@@ -438,7 +450,8 @@ fn method_row(
         },
         used: report.used,
         thinned: report.thinned,
-        unknown: report.unknown + unknown_read,
+        unknown: report.unknown + unknown_read.0 + unknown_read.1,
+        other_robots: unknown_read.1,
         rejected_readings: report.rejected,
         rmcl: *rmcl,
         ate_common: None,
@@ -577,6 +590,43 @@ fn opt(v: Option<f64>, digits: usize) -> String {
     v.map_or("–".to_string(), |v| format!("{v:.digits$}"))
 }
 
+/// The notes under the main table: how R-MCL made its estimates, the first fixes on the log's
+/// clock, the kidnap, and what the columns mean.
+fn print_notes(out: &mut impl Write, rows: &[MethodRow]) -> Result<(), CliError> {
+    for r in rows {
+        if let Some(c) = r.rmcl {
+            writeln!(
+                out,
+                "\n{}: estimate from fresh samples in {} of {} frames, from samples carried by odometry in {}, the grid's after a failed sampling in {}, the grid's (no samples yet) in the rest",
+                r.method, c.sampled, r.frames, c.carried, c.fallbacks
+            )?;
+        }
+    }
+    let fixes: Vec<String> = rows
+        .iter()
+        .filter_map(|r| Some(format!("{} t = {:.3}", r.method, r.first_fix_t?)))
+        .collect();
+    if !fixes.is_empty() {
+        writeln!(
+            out,
+            "\nfirst fix on the log's clock (evo_ape --t_start): {}",
+            fixes.join(", ")
+        )?;
+    }
+    if let Some(at) = rows.first().and_then(|r| r.kidnap_at) {
+        writeln!(out, "\nkidnap injected {at:.1} s after the first frame")?;
+    }
+    let window = match rows.first().and_then(|r| r.common_from) {
+        Some(s) => format!("from {s:.1} s, the latest first fix of the methods above"),
+        None => "none: some method never has a fix".to_string(),
+    };
+    writeln!(
+        out,
+        "\nATE: position error vs truth, no alignment, RMSE / median / max from each method's own first fix; ATE common window: RMSE over the frames where every method above has had its fix ({window}); ATE all frames: RMSE from the first frame. time/step: wall time of the run / frames."
+    )?;
+    Ok(())
+}
+
 fn print_table(
     out: &mut impl Write,
     rows: &[MethodRow],
@@ -609,26 +659,7 @@ fn print_table(
             r.time_per_step_us
         )?;
     }
-    for r in rows {
-        if let Some(c) = r.rmcl {
-            writeln!(
-                out,
-                "\n{}: estimate from fresh samples in {} of {} frames, from samples carried by odometry in {}, the grid's after a failed sampling in {}, the grid's (no samples yet) in the rest",
-                r.method, c.sampled, r.frames, c.carried, c.fallbacks
-            )?;
-        }
-    }
-    if let Some(at) = rows.first().and_then(|r| r.kidnap_at) {
-        writeln!(out, "\nkidnap injected {at:.1} s after the first frame")?;
-    }
-    let window = match rows.first().and_then(|r| r.common_from) {
-        Some(s) => format!("from {s:.1} s, the latest first fix of the methods above"),
-        None => "none: some method never has a fix".to_string(),
-    };
-    writeln!(
-        out,
-        "\nATE: position error vs truth, no alignment, RMSE / median / max from each method's own first fix; ATE common window: RMSE over the frames where every method above has had its fix ({window}); ATE all frames: RMSE from the first frame. time/step: wall time of the run / frames."
-    )?;
+    print_notes(out, rows)?;
     for (sweep, title) in [
         (
             "noise",

@@ -157,9 +157,21 @@ pub(super) fn load_mrclam(
     robot: u32,
     map: &Map,
 ) -> Result<(Vec<crate::io::record::FrameRecord>, usize), CliError> {
-    use crate::io::mrclam_stream::to_record;
     let (data, malformed) = load_mrclam_dir(dir, &[robot])?;
-    let Some(log) = data.robots.first() else {
+    let records = mrclam_records(&data, robot, map, malformed)?;
+    Ok((records, malformed))
+}
+
+/// The records of robot `robot` of a dataset read by [`load_mrclam_dir`], subjects named after
+/// `map`; prints the summary line (`malformed` lines were skipped while reading).
+pub(super) fn mrclam_records(
+    data: &mrclam_dir::Dataset,
+    robot: u32,
+    map: &Map,
+    malformed: usize,
+) -> Result<Vec<crate::io::record::FrameRecord>, CliError> {
+    use crate::io::mrclam_stream::to_record;
+    let Some(log) = data.robots.iter().find(|r| r.robot == robot) else {
         return Err(CliError::Diagnostics { count: 1 });
     };
     let names = crate::io::landmark_stream::landmark_names(map);
@@ -189,5 +201,5 @@ pub(super) fn load_mrclam(
         listed.join(", "),
         malformed
     );
-    Ok((records, malformed))
+    Ok(records)
 }

@@ -5,8 +5,10 @@
 //! time after an injected kidnap. `--svg DIR` draws a few grid frames (paper 000 figs. 3/5).
 //!
 //! Landmark positions come from the map's `landmark … id N` lines, so the stream's
-//! `landmark_range(NAME)` percepts are resolved by name. With no `--map`, the bundled
-//! `maps/mrclam.map` is used. The stream is read by the same reader as `lplace eval`'s
+//! `landmark_range(NAME)` percepts are resolved by name. With no `--map`, `--from-dir DIR` reads
+//! DIR's own landmark survey, and a stream (or a directory without one) the bundled
+//! `maps/mrclam.map`; the map used is named on stderr. A map that names no reading at all ends
+//! with a warning and exit 3. `--truth-tum` writes the frames' truth beside the trajectory. The stream is read by the same reader as `lplace eval`'s
 //! (`io::landmark_stream`): rejected records are reported on stderr as STREAM:LINE: reason and
 //! skipped (exit 3 at the end). A `.csv` stream is read as CSV.
 //!
@@ -20,8 +22,9 @@ use super::args::{Format, FrameInput, GridArgs, KidnapArgs};
 use super::output::{self, Output};
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::grid::place::map_landmarks;
-use crate::grid::{GridConfig, LandmarkTable};
+use crate::grid::{GridConfig, LandmarkTable, LandmarkTruth};
 use crate::io::landmark_stream;
+use crate::io::mrclam_dir::{self, Dataset};
 use crate::io::mrclam_stream::RecordReader;
 use crate::io::stream::{StreamFormat, StreamReader};
 use crate::io::tum::{write_tum, TumPose};
@@ -96,6 +99,11 @@ pub fn run(args: &GridArgs, out: &mut impl Write) -> Result<u8, CliError> {
     inputs.extend(args.config.as_deref().map(|p| ("--config", p)));
     let outputs: Vec<Output<'_>> = (args.tum.as_deref().map(|p| Output::file("--tum", p)))
         .into_iter()
+        .chain(
+            args.truth_tum
+                .as_deref()
+                .map(|p| Output::file("--truth-tum", p)),
+        )
         .chain(args.svg.as_deref().map(|p| Output::folder("--svg", p)))
         .collect();
     output::check(&outputs, &inputs)?;
@@ -112,9 +120,6 @@ pub fn run(args: &GridArgs, out: &mut impl Write) -> Result<u8, CliError> {
     let (table, frames) = (&input.table, &input.frames);
     let report =
         run_grid(table, &cfg, frames.iter().cloned(), &RunOptions::default()).map_err(bad)?;
-    if let Some(path) = &args.tum {
-        write_trajectory(path, &report.frames)?;
-    }
     let kidnapped = match kidnap(&args.kidnap, frames)? {
         None => None,
         Some((after, k)) => {
@@ -128,25 +133,42 @@ pub fn run(args: &GridArgs, out: &mut impl Write) -> Result<u8, CliError> {
             ))
         }
     };
+    if let Some(path) = &args.tum {
+        // With a kidnap, the trajectory is the kidnapped run's: the one whose recovery is told.
+        let ran = kidnapped.as_ref().map_or(&report, |k| &k.1);
+        write_trajectory(path, &ran.frames)?;
+    }
+    if let Some(path) = &args.truth_tum {
+        write_truth(path, &report.frames)?;
+    }
     if let Some(dir) = &args.svg {
         write_frames(dir, table, &cfg, frames, &input_title(&args.input))?;
     }
     if let Some(s) = &spinner {
         s.finish_and_clear();
     }
-    print_scores(
-        out,
-        args.json || matches!(args.format, Some(Format::Json | Format::Jsonl)),
-        &report,
-        kidnapped.as_ref(),
-        &input.reader,
-        input.rejected,
-    )?;
-    Ok(if input.rejected > 0 {
+    let json = args.json || matches!(args.format, Some(Format::Json | Format::Jsonl));
+    print_scores(out, json, &report, kidnapped.as_ref(), &input)?;
+    let unmatched = warn_if_unmatched(&input);
+    Ok(if input.rejected > 0 || unmatched {
         EXIT_REJECTED
     } else {
         EXIT_OK
     })
+}
+
+/// Warns on stderr when no reading named a landmark of the map although some named subjects
+/// it does not know (the map is not the stream's); true when it warned (exit 3).
+pub(super) fn warn_if_unmatched(input: &LoadedFrames) -> bool {
+    let matched: usize = input.frames.iter().map(|f| f.observations.len()).sum();
+    let unknown = input.reader.stats.unknown;
+    if matched > 0 || unknown == 0 {
+        return false;
+    }
+    eprintln!(
+        "warning: no reading names a landmark of the map ({unknown} reading(s) of unknown subjects): is it the map of these readings?"
+    );
+    true
 }
 
 /// Frames read and converted, ready to drive.
@@ -162,22 +184,33 @@ pub(super) struct LoadedFrames {
 }
 
 /// Reads `input`'s map and records (stream or MRCLAM files) and converts them to frames;
-/// malformed lines are reported on stderr and counted in [`LoadedFrames::rejected`].
+/// malformed lines are reported on stderr and counted in [`LoadedFrames::rejected`]. Which
+/// landmark map is used ([`frame_map`]) is said on stderr.
 pub(super) fn load_frames(input: &FrameInput) -> Result<LoadedFrames, CliError> {
-    let map = load_map(input.map.as_deref())?;
+    let dataset = match (&input.from_dir, &input.stream) {
+        (Some(dir), _) => {
+            let robot = input.robot.ok_or_else(|| bad("--from-dir needs --robot"))?;
+            let dir = super::data::resolve(dir);
+            Some((super::extract::load_mrclam_dir(&dir, &[robot])?, robot))
+        }
+        (None, Some(_)) => None,
+        (None, None) => return Err(bad("no STREAM given")),
+    };
+    let (map, source) = frame_map(input.map.as_deref(), dataset.as_ref().map(|d| &d.0 .0))?;
     let (table, names) = map_landmarks(&map).map_err(bad)?;
     if table.landmarks().is_empty() {
         return Err(bad("the map has no landmark with an id"));
     }
+    let n = table.landmarks().len();
+    let plural = if n == 1 { "" } else { "s" };
+    eprintln!("landmarks: {source} ({n} landmark{plural})");
     let mut reader = RecordReader::new(names);
     reader.min_degree = input.min_degree;
-    let (frames, rejected) = match (&input.from_dir, &input.stream) {
-        (Some(dir), _) => {
-            let robot = input.robot.ok_or_else(|| bad("--from-dir needs --robot"))?;
-            let dir = super::data::resolve(dir);
-            let (records, rejected) = super::extract::load_mrclam(&dir, robot, &map)?;
+    let (frames, rejected) = match (dataset, &input.stream) {
+        (Some(((data, malformed), robot)), _) => {
+            let records = super::extract::mrclam_records(&data, robot, &map, malformed)?;
             let frames = records.iter().map(|r| reader.convert(r)).collect();
-            (frames, rejected)
+            (frames, malformed)
         }
         (None, Some(path)) => read_stream(
             &super::data::resolve(path),
@@ -193,6 +226,46 @@ pub(super) fn load_frames(input: &FrameInput) -> Result<LoadedFrames, CliError> 
         reader,
         rejected,
     })
+}
+
+/// The landmark map of a frame input, and its name for stderr: `--map`; else, with
+/// `--from-dir`, the directory's own survey (`Landmark_Groundtruth.dat`), so that another
+/// MRCLAM data set is read against its own landmarks; else the bundled MRCLAM map.
+fn frame_map(path: Option<&Path>, data: Option<&Dataset>) -> Result<(Map, String), CliError> {
+    if let Some(p) = path {
+        return Ok((load_map(Some(p))?, p.display().to_string()));
+    }
+    match data.and_then(|d| d.landmarks.as_deref().map(|s| (d, s))) {
+        Some((d, survey)) => {
+            let file = d.dir.join(mrclam_dir::LANDMARKS);
+            Ok((survey_map(survey, &file)?, file.display().to_string()))
+        }
+        None => Ok((load_map(None)?, "maps/mrclam.map (bundled)".to_string())),
+    }
+}
+
+/// A landmark survey as a map of landmarks `L<subject>` with id `<subject>`, the names and ids
+/// of the bundled MRCLAM map. Built as map text and parsed, so that it is the map every
+/// command reads; `{}` prints the shortest decimal that parses back to the same number, so the
+/// positions are the survey's to the last bit.
+fn survey_map(survey: &[LandmarkTruth], file: &Path) -> Result<Map, CliError> {
+    let mut text = String::from("map survey;\n");
+    for l in survey {
+        if !(l.x.is_finite() && l.y.is_finite()) {
+            return Err(bad(format!(
+                "{}: landmark {} has no finite position",
+                file.display(),
+                l.subject
+            )));
+        }
+        text.push_str(&format!(
+            "landmark L{0} at ({1}, {2}) id {0};\n",
+            l.subject, l.x, l.y
+        ));
+    }
+    let fail = |_| bad(format!("{}: the survey is not a map", file.display()));
+    let ast = parse_map(&text).map_err(fail)?;
+    Map::from_ast(&ast).map_err(fail)
 }
 
 /// Reads a RON configuration file and parses it with `parse`; a parse error is reported with
@@ -261,6 +334,23 @@ pub(super) fn write_trajectory(path: &Path, frames: &[FrameEstimate]) -> Result<
     output::write_atomic(path, |w| write_tum(w, &poses))
 }
 
+/// Writes the frames' truth poses as a TUM trajectory, in [`write_trajectory`]'s format;
+/// frames without truth are left out.
+fn write_truth(path: &Path, frames: &[FrameEstimate]) -> Result<(), CliError> {
+    let poses: Vec<TumPose> = frames
+        .iter()
+        .filter_map(|f| {
+            f.truth.map(|p| TumPose {
+                t: f.t,
+                x: p.x,
+                y: p.y,
+                yaw: p.theta,
+            })
+        })
+        .collect();
+    output::write_atomic(path, |w| write_tum(w, &poses))
+}
+
 /// The files a [`FrameInput`] reads, as inputs no output may overwrite.
 pub(super) fn frame_inputs(input: &FrameInput) -> Vec<(&'static str, &Path)> {
     let map = input.map.as_deref().map(|p| ("--map", p));
@@ -303,18 +393,19 @@ pub(super) fn output_error(path: &Path, source: std::io::Error) -> CliError {
     }
 }
 
+/// The scores, as text or as one JSON object.
 fn print_scores(
     out: &mut impl Write,
     json: bool,
     r: &RunReport,
     kidnapped: Option<&(f64, RunReport)>,
-    reader: &RecordReader,
-    rejected: usize,
+    input: &LoadedFrames,
 ) -> Result<(), CliError> {
     let recovery = kidnapped.map(|(at, k)| match k.recovery {
         Some(Recovery::Recovered { after }) => (*at, Some(after)),
         _ => (*at, None),
     });
+    let stats = &input.reader.stats;
     if json {
         let v = serde_json::json!({
             "frames": r.frames.len(),
@@ -322,13 +413,15 @@ fn print_scores(
             "ate_all": r.ate_all,
             "heading_rmse": r.heading_rmse,
             "first_fix": r.first_fix.map(|f| f.after),
+            "first_fix_t": r.first_fix_time(),
             "kidnap_at": recovery.map(|x| x.0),
             "recovery": recovery.and_then(|x| x.1),
             "used": r.used,
-            "unknown": r.unknown + reader.stats.unknown,
-            "unpaired": reader.stats.unpaired,
-            "dropped": reader.stats.dropped,
-            "rejected_lines": rejected,
+            "unknown": r.unknown + stats.unknown + stats.robots,
+            "other_robots": stats.robots,
+            "unpaired": stats.unpaired,
+            "dropped": stats.dropped,
+            "rejected_lines": input.rejected,
         });
         writeln!(out, "{v}")?;
         return Ok(());
@@ -349,7 +442,14 @@ fn print_scores(
         f(r.ate_all.map(|a| a.rmse))
     )?;
     writeln!(out, "heading RMSE: {} rad", f(r.heading_rmse))?;
-    writeln!(out, "first fix: {} s", f(r.first_fix.map(|x| x.after)))?;
+    match r.first_fix_time() {
+        Some(t) => writeln!(
+            out,
+            "first fix: {} s (t = {t:.3})",
+            f(r.first_fix.map(|x| x.after))
+        )?,
+        None => writeln!(out, "first fix: – s")?,
+    }
     if let Some((at, rec)) = recovery {
         match rec {
             Some(s) => writeln!(out, "kidnap at {at:.1} s: recovered after {s:.1} s")?,
@@ -358,12 +458,13 @@ fn print_scores(
     }
     writeln!(
         out,
-        "readings: {} used, {} thinned, {} of unknown subjects, {} unpaired, {} below --min-degree",
+        "readings: {} used, {} thinned, {} of other robots, {} of unknown subjects, {} unpaired, {} below --min-degree",
         r.used,
         r.thinned,
-        r.unknown + reader.stats.unknown,
-        reader.stats.unpaired,
-        reader.stats.dropped
+        stats.robots,
+        r.unknown + stats.unknown,
+        stats.unpaired,
+        stats.dropped
     )?;
     Ok(())
 }

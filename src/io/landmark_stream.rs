@@ -17,15 +17,15 @@
 //! it reads only the `BufRead` it is given.
 
 use crate::engine::{Frame, PerceptInstance};
-use crate::io::mrclam_stream::{Reading, RecordReader, BEARING, RANGE};
+use crate::io::mrclam_stream::{robot_name, Reading, RecordReader, BEARING, RANGE, ROBOTS};
 use crate::io::stream::{FrameMeta, LineError, ReadOutcome, Schema, StreamReader, TimeRestart};
 use crate::localize::MetricFrame;
 use crate::map::Map;
 use std::collections::BTreeMap;
 use std::io::BufRead;
 
-/// MRCLAM's subject ids: 1–5 are the robots, 6–20 the landmarks (the data set's README).
-const ROBOTS: std::ops::RangeInclusive<u32> = 1..=5;
+/// MRCLAM's subject ids: 1–5 are the robots ([`ROBOTS`]), 6–20 the landmarks (the data set's
+/// README).
 const SUBJECTS: std::ops::RangeInclusive<u32> = 1..=20;
 
 /// The name of MRCLAM subject `id` in a stream: the map's name for it (`names`: map landmark
@@ -33,7 +33,7 @@ const SUBJECTS: std::ops::RangeInclusive<u32> = 1..=20;
 pub fn subject_name(names: &BTreeMap<u32, String>, id: u32) -> String {
     match names.get(&id) {
         Some(n) => n.clone(),
-        None if ROBOTS.contains(&id) => format!("Robot{id}"),
+        None if ROBOTS.contains(&id) => robot_name(id),
         None => format!("S{id}"),
     }
 }

@@ -47,6 +47,20 @@ pub const RANGE: &str = "landmark_range";
 /// frame, counter-clockwise, in (−180, 180]).
 pub const BEARING: &str = "landmark_bearing";
 
+/// MRCLAM's subject ids of the robots (the data set's README: 1–5 robots, 6–20 landmarks).
+pub const ROBOTS: std::ops::RangeInclusive<u32> = 1..=5;
+
+/// A robot's subject name in a stream (`Robot4`), for sightings of another robot.
+pub fn robot_name(id: u32) -> String {
+    format!("Robot{id}")
+}
+
+/// The robot a subject name of [`robot_name`]'s form names, if any.
+pub fn robot_of(name: &str) -> Option<u32> {
+    let id = name.strip_prefix("Robot")?.parse().ok()?;
+    ROBOTS.contains(&id).then_some(id)
+}
+
 /// Reliability of a camera sighting at `range` metres, used as the percept's degree.
 ///
 /// The barcode shrinks in the image with distance, so far readings are misread and mis-ranged
@@ -113,8 +127,11 @@ pub fn to_record(
 pub struct ReadStats {
     /// Range or bearing percepts without their partner in the same record.
     pub unpaired: usize,
-    /// Landmark percepts naming no subject the reader knows (other robots, typos).
+    /// Landmark percepts naming no subject the reader knows, other robots aside (a map that
+    /// misses landmarks, typos).
     pub unknown: usize,
+    /// Sightings of other robots ([`robot_of`] names) the reader does not know as landmarks.
+    pub robots: usize,
     /// Landmark percepts below the reader's minimum degree, or with no finite value.
     pub dropped: usize,
 }
@@ -234,6 +251,7 @@ impl RecordReader {
                     range,
                     bearing,
                 }),
+                None if robot_of(name).is_some() => self.stats.robots += 1,
                 None => self.stats.unknown += 1,
             }
         }
@@ -252,4 +270,36 @@ pub struct Reading<'a> {
     pub value: Option<f64>,
     /// Reliability.
     pub degree: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn robot_names_go_both_ways_for_the_five_robots_only() {
+        for id in ROBOTS {
+            assert_eq!(robot_of(&robot_name(id)), Some(id));
+        }
+        for name in ["Robot0", "Robot6", "Robot", "Robot-1", "robot2", "L6", "S7"] {
+            assert_eq!(robot_of(name), None, "{name}");
+        }
+    }
+
+    #[test]
+    fn the_reader_counts_other_robots_apart_from_unknown_subjects() {
+        let mut r = RecordReader::new([("L6".to_string(), 6)]);
+        let read = |subject| {
+            [RANGE, BEARING].map(|name| Reading {
+                name,
+                subject: Some(subject),
+                value: Some(1.0),
+                degree: 1.0,
+            })
+        };
+        let percepts = [read("L6"), read("Robot2"), read("Robot5"), read("S9")].concat();
+        let f = r.convert_parts(Some(1.0), Odometry::default(), None, percepts);
+        assert_eq!(f.observations.len(), 1);
+        assert_eq!((r.stats.robots, r.stats.unknown), (2, 1));
+    }
 }

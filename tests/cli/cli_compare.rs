@@ -340,3 +340,90 @@ fn mrclam_robot1_grid_and_small_pf() {
         assert!(rmse < 1.0, "{r}");
     }
 }
+
+/// Runs `lplace compare` with `args`; returns (exit code, stdout, stderr).
+fn compare<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> (i32, String, String) {
+    let out = lplace().arg("compare").args(args).output().unwrap();
+    let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+    (
+        out.status.code().unwrap_or(-1),
+        text(&out.stdout),
+        text(&out.stderr),
+    )
+}
+
+#[test]
+fn compare_names_its_map_and_warns_when_the_map_names_no_reading() {
+    // The tiny MRCLAM directory's robot 1 sees subject 6 only; the tiny map has ids 1–3.
+    let d = crate::support::mrclam::tiny_dir(&scratch("no_match"), "10.0 0.0 0.0\n11.5 0.0 0.0\n");
+    let map = d.join("tiny.map");
+    std::fs::write(&map, landmarks::tiny_map(false)).unwrap();
+    let from_dir = [
+        "--from-dir".as_ref(),
+        d.as_os_str(),
+        "--robot".as_ref(),
+        "1".as_ref(),
+        "--methods".as_ref(),
+        "fpg".as_ref(),
+    ];
+    let mut args = vec!["--map".as_ref(), map.as_os_str()];
+    args.extend(from_dir);
+    let (code, _, err) = compare(&args);
+    assert_eq!(code, 3, "{err}");
+    let said = format!("landmarks: {} (3 landmarks)", map.display());
+    assert!(err.lines().any(|l| l == said), "{err}");
+    assert!(
+        err.contains("warning: no reading names a landmark of the map"),
+        "{err}"
+    );
+    // Without --map, the directory's own survey, which has subject 6: no warning.
+    let survey = d.join("Landmark_Groundtruth.dat");
+    std::fs::write(&survey, "6 2.0 0.0 0.001 0.001\n").unwrap();
+    let (code, _, err) = compare(&from_dir);
+    assert_eq!(code, 0, "{err}");
+    let said = format!("landmarks: {} (1 landmark)", survey.display());
+    assert!(err.lines().any(|l| l == said), "{err}");
+}
+
+#[test]
+fn compare_gives_the_first_fix_on_the_logs_clock_and_writes_the_kidnapped_run() {
+    let d = scratch("fix_clock");
+    let t0 = 5000.5;
+    let lines: Vec<String> = (0..30).map(|k| frame(t0 + k as f64)).collect();
+    let (map, stream) = landmarks::write(&d, false, &lines);
+    let (plain, kidnapped) = (d.join("plain"), d.join("kidnapped"));
+    let run = |dir: &PathBuf, extra: &[&str]| {
+        let mut a = vec![
+            "--map".as_ref(),
+            map.as_os_str(),
+            stream.as_os_str(),
+            "--methods".as_ref(),
+            "fpg".as_ref(),
+            "--tum-dir".as_ref(),
+            dir.as_os_str(),
+        ];
+        a.extend(extra.iter().map(std::ffi::OsStr::new));
+        let (code, out, err) = compare(&a);
+        assert_eq!(code, 0, "{err}");
+        let poses = read_tum(std::io::BufReader::new(
+            std::fs::File::open(dir.join("fpg.tum")).unwrap(),
+        ))
+        .unwrap();
+        (out, poses)
+    };
+    let (out, plain) = run(&plain, &["--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let row = &v["methods"][0];
+    let after = row["first_fix"].as_f64().expect("a fix");
+    let at = row["first_fix_t"].as_f64().expect("a fix time");
+    assert!((at - t0 - after).abs() < 1e-6, "{row}");
+    let (table, kidnapped) = run(&kidnapped, &["--kidnap-at", "10", "--kidnap-by", "0,2,0"]);
+    let said = format!("first fix on the log's clock (evo_ape --t_start): fpg t = {at:.3}");
+    assert!(table.lines().any(|l| l == said), "{table}");
+    let most = plain
+        .iter()
+        .zip(&kidnapped)
+        .map(|(p, q)| (p.x - q.x).hypot(p.y - q.y))
+        .fold(0.0, f64::max);
+    assert!(most > 0.5, "the kidnap is not in the TUM file ({most} m)");
+}
