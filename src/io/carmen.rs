@@ -24,6 +24,8 @@
 use std::collections::BTreeMap;
 use std::io::BufRead;
 
+use super::line::{read_bounded, LineRead, MAX_LINE};
+
 use thiserror::Error;
 
 use crate::core::Pose2;
@@ -77,6 +79,12 @@ pub enum CarmenError {
         /// 1-based line number.
         line: usize,
     },
+    /// The line is longer than [`MAX_LINE`] bytes (dropped unread).
+    #[error("line {line}: longer than {MAX_LINE} bytes")]
+    TooLong {
+        /// 1-based line number.
+        line: usize,
+    },
     /// The underlying reader failed.
     #[error("line {line}: read error: {source}")]
     Io {
@@ -96,6 +104,7 @@ impl CarmenError {
             | CarmenError::BadNumber { line, .. }
             | CarmenError::BeamCount { line, .. }
             | CarmenError::NotUtf8 { line }
+            | CarmenError::TooLong { line }
             | CarmenError::Io { line, .. } => *line,
         }
     }
@@ -408,12 +417,18 @@ impl<R: BufRead> Iterator for CarmenReader<R> {
         while !self.done {
             self.buf.clear();
             let line = self.line + 1;
-            match self.source.read_until(b'\n', &mut self.buf) {
-                Ok(0) => {
+            match read_bounded(&mut self.source, &mut self.buf) {
+                Ok(LineRead::End) => {
                     self.done = true;
                     return None;
                 }
-                Ok(_) => {}
+                Ok(LineRead::Line { .. }) => {}
+                Ok(LineRead::TooLong { .. }) => {
+                    self.line = line;
+                    self.stats.lines += 1;
+                    self.stats.errors += 1;
+                    return Some(Err(CarmenError::TooLong { line }));
+                }
                 Err(source) => {
                     self.done = true;
                     self.stats.errors += 1;

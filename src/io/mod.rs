@@ -9,6 +9,7 @@ pub mod carmen_stream;
 pub mod csv;
 mod fast_record;
 pub mod landmark_stream;
+pub mod line;
 pub mod mrclam;
 pub mod mrclam_dir;
 pub mod mrclam_stream;

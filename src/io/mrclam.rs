@@ -39,6 +39,8 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::io::BufRead;
 
+use super::line::{read_bounded, LineRead, MAX_LINE};
+
 /// Which MRCLAM file a row came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum FileKind {
@@ -83,6 +85,8 @@ pub enum LineProblem {
         /// 1-based byte column of the first bad byte.
         column: usize,
     },
+    /// The line is longer than [`MAX_LINE`] bytes (dropped unread).
+    TooLong,
     /// A time later than the next row's, which itself follows the previous row: this one
     /// time is out of place (a corrupt timestamp).
     TimeOutlier {
@@ -112,6 +116,7 @@ impl std::fmt::Display for LineProblem {
             LineProblem::NonFinite { column } => write!(f, "column {column}: not a finite number"),
             LineProblem::NegativeRange => write!(f, "negative range"),
             LineProblem::NotUtf8 { column } => write!(f, "column {column}: not UTF-8"),
+            LineProblem::TooLong => write!(f, "longer than {MAX_LINE} bytes"),
             LineProblem::TimeOutlier { time, next } => write!(
                 f,
                 "time {time} is out of place (after it comes {next}, which follows the rows before)"
@@ -257,33 +262,40 @@ fn parse_rows<R: BufRead, T>(
     loop {
         buf.clear();
         line += 1;
-        match r.read_until(b'\n', &mut buf) {
-            Ok(0) => {
+        let too_long = match read_bounded(&mut r, &mut buf) {
+            Ok(LineRead::End) => {
                 return Ok(Lenient {
                     value: rows,
                     skipped: errors,
                 })
             }
-            Ok(_) => {}
+            Ok(LineRead::Line { .. }) => false,
+            Ok(LineRead::TooLong { .. }) => true,
             Err(source) => return Err(MrclamError::Read { file, line, source }),
-        }
+        };
         let bytes = match (line, buf.strip_prefix(b"\xEF\xBB\xBF")) {
             (1, Some(rest)) => rest,
             _ => &buf[..],
         };
-        let parsed = std::str::from_utf8(bytes)
-            .map_err(|e| LineProblem::NotUtf8 {
+        let parsed = (if too_long {
+            Err(LineProblem::TooLong)
+        } else {
+            Ok(bytes)
+        })
+        .and_then(|bytes| {
+            std::str::from_utf8(bytes).map_err(|e| LineProblem::NotUtf8 {
                 column: e.valid_up_to() + 1,
             })
-            .and_then(|text| {
-                let text = text.trim();
-                if text.is_empty() || text.starts_with('#') {
-                    return Ok(None);
-                }
-                let toks: Vec<&str> = text.split_whitespace().collect();
-                fields(&toks, cols, &mut nums)?;
-                f(&nums, &toks).map(Some)
-            });
+        })
+        .and_then(|text| {
+            let text = text.trim();
+            if text.is_empty() || text.starts_with('#') {
+                return Ok(None);
+            }
+            let toks: Vec<&str> = text.split_whitespace().collect();
+            fields(&toks, cols, &mut nums)?;
+            f(&nums, &toks).map(Some)
+        });
         match parsed {
             Ok(Some(row)) => rows.push((line, row)),
             Ok(None) => {}

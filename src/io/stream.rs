@@ -37,6 +37,7 @@
 //! Depends on `engine::frame` (the target), `io::record` (the wire types), `map` (truth place
 //! names) and serde/serde_json; nothing here does I/O beyond reading the given `BufRead`.
 
+use super::line::{read_bounded, LineRead};
 use crate::engine::frame::InstanceIndex;
 use crate::engine::{Frame, PerceptInstance, PerceptSlot, PerceptTable};
 use crate::io::csv::CsvLayout;
@@ -48,12 +49,12 @@ use crate::map::Map;
 use serde::de::{self, DeserializeSeed, IgnoredAny, MapAccess, SeqAccess, Visitor};
 use serde::Deserialize;
 use std::fmt;
-use std::io::{BufRead, Read};
+use std::io::BufRead;
 use std::sync::mpsc;
 
 /// Longest line accepted, in bytes; a longer line is rejected (and skipped) without being held in
 /// memory, so that memory stays flat on any input.
-pub const MAX_LINE: usize = 1 << 20;
+pub use super::line::MAX_LINE;
 
 /// The wire form of a stream.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -739,30 +740,17 @@ impl<R: BufRead> StreamReader<R> {
     /// Reads one line into `buf` (without its line ending). `Ok(None)` at the end; `Ok(Some(false))`
     /// for a line longer than [`MAX_LINE`] (skipped, not held).
     fn read_line(&mut self) -> std::io::Result<Option<bool>> {
-        self.buf.clear();
-        let n = (&mut self.input)
-            .take(MAX_LINE as u64 + 1)
-            .read_until(b'\n', &mut self.buf)?;
-        if n == 0 {
-            return Ok(None);
-        }
-        self.bytes += n as u64;
-        self.line += 1;
-        if self.buf.len() > MAX_LINE && self.buf.last() != Some(&b'\n') {
-            // Drain the rest of the line in bounded pieces.
-            loop {
-                self.buf.clear();
-                let m = (&mut self.input)
-                    .take(MAX_LINE as u64)
-                    .read_until(b'\n', &mut self.buf)?;
-                self.bytes += m as u64;
-                if m == 0 || self.buf.last() == Some(&b'\n') {
-                    break;
-                }
+        let bytes = match read_bounded(&mut self.input, &mut self.buf)? {
+            LineRead::End => return Ok(None),
+            LineRead::Line { bytes } => bytes,
+            LineRead::TooLong { bytes } => {
+                self.bytes += bytes as u64;
+                self.line += 1;
+                return Ok(Some(false));
             }
-            self.buf.clear();
-            return Ok(Some(false));
-        }
+        };
+        self.bytes += bytes as u64;
+        self.line += 1;
         while matches!(self.buf.last(), Some(b'\n' | b'\r')) {
             self.buf.pop();
         }

@@ -92,3 +92,20 @@ fn the_directory_loader_keeps_the_lines_after_a_corrupt_time() {
     let frames = &d.robots[0].frames;
     assert!((frames.last().unwrap().t - 102.9).abs() < 1e-9);
 }
+
+/// A line of 2 MiB without a break (a corrupt block) is one bad line: reported with its number
+/// and skipped, the lines around it kept, and never held whole.
+#[test]
+fn an_overlong_line_is_one_skipped_line() {
+    let mut bytes = b"10.0 0.1 0.0\n".to_vec();
+    bytes.extend(vec![b'7'; 2 << 20]);
+    bytes.extend_from_slice(b"\n11.0 0.1 0.0\n");
+    let got = mrclam::read_odometry_lenient(&bytes[..]).unwrap();
+    assert_eq!(lines_of(&got.skipped), [2]);
+    assert!(
+        got.skipped[0].to_string().contains("longer than"),
+        "{}",
+        got.skipped[0]
+    );
+    assert_eq!(got.value.len(), 2);
+}

@@ -143,6 +143,21 @@ fn reader_reports_invalid_utf8_with_its_line() {
     assert!(matches!(items[1], Err(CarmenError::NotUtf8 { line: 2 })));
 }
 
+/// A 3 MiB line (a corrupt block with no line break) is one bad line, reported and skipped
+/// without being held; the messages after it are read with their own line numbers.
+#[test]
+fn reader_skips_an_overlong_line_with_its_number() {
+    let mut bytes = b"ODOM 0 0 0 0 0 0 1\n".to_vec();
+    bytes.extend(vec![b'9'; 3 << 20]);
+    bytes.extend_from_slice(b"\nODOM 0 0 0 0 0 0 2\n");
+    let mut rd = CarmenReader::new(&bytes[..]);
+    let items: Vec<_> = rd.by_ref().collect();
+    assert_eq!(items.len(), 3);
+    assert!(matches!(items[1], Err(CarmenError::TooLong { line: 2 })));
+    assert!(matches!(items[2], Ok((3, _))), "{:?}", items[2]);
+    assert_eq!((rd.stats().lines, rd.stats().errors), (3, 1));
+}
+
 #[test]
 fn uci_rows_of_all_three_files() {
     let l24 = "0.438,0.498,3.625,3.645,5.000,2.918,5.000,2.351,2.332,2.643,1.698,1.687,1.698,1.717,1.744,0.593,0.502,0.493,0.504,0.445,0.431,0.444,0.440,0.429,Slight-Right-Turn";
