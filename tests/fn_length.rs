@@ -4,8 +4,11 @@
 //! its value). The scanner blanks comments and string/char literals first, so a brace inside
 //! `"{"` or `// }` does not move a body's end.
 
+#[path = "support/source_tree.rs"]
+mod source_tree;
+use source_tree::rust_files;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
@@ -257,20 +260,6 @@ fn is_table(body: &[u8]) -> bool {
             body[end..].iter().all(|c| c.is_ascii_whitespace())
         }
         _ => false,
-    }
-}
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = fs::read_dir(dir) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
     }
 }
 

@@ -2,6 +2,9 @@
 //! names a module listed above it in the table and in its "may depend on" column. A back-import
 //! (a lower layer reaching up) or an undeclared dependency fails this test.
 
+#[path = "support/source_tree.rs"]
+mod source_tree;
+use source_tree::rust_files;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -110,20 +113,6 @@ fn split_top(s: &str) -> Vec<&str> {
     }
     out.push(&s[from..]);
     out
-}
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = fs::read_dir(dir) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
 }
 
 /// Module → the crate modules its sources name.

@@ -275,9 +275,7 @@ fn eval_help() {
 #[test]
 fn check_never_calls_a_file_ok_and_then_blames_it() {
     let d = scratch("conventions", "check");
-    let office =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("maps/office.map"))
-            .expect("bundled map");
+    let office = lplace::engine::OFFICE_MAP;
     // A wall direction the office rules' `Dir` domain does not have: the map parses, the
     // rules then find the problem in it.
     let bad = office.replacen("wall South; wall West;", "wall Sud; wall West;", 1);
@@ -339,9 +337,7 @@ fn kidnap_by_is_one_comma_separated_value() {
 #[test]
 fn a_map_without_corners_warns_and_runs() {
     let d = scratch("conventions", "no_corners");
-    let office =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("maps/office.map"))
-            .expect("bundled map");
+    let office = lplace::engine::OFFICE_MAP;
     // Every `wall D;` and `corner A B;` statement removed: no place has a wall or a corner.
     let is_feature = |st: &str| {
         let t = st.trim_start();
@@ -378,9 +374,7 @@ fn a_map_without_corners_warns_and_runs() {
     assert!(!err.contains("error"), "{err}");
     // The rules that need a corner or a wall at the place: the corner derivation and the two
     // place rules built on corners and walls, found here from the rule file's text.
-    let rules =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("rules/office.lpl"))
-            .expect("bundled rules");
+    let rules = lplace::engine::OFFICE_RULES;
     let corner_rule = 1 + rules
         .lines()
         .position(|l| l.trim_start().starts_with("|- ((sonar_wall(p1, d1, t)"))
@@ -413,9 +407,7 @@ fn a_map_without_corners_warns_and_runs() {
 #[test]
 fn a_place_without_the_rules_parameters_is_named() {
     let d = scratch("conventions", "lacks_params");
-    let office =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("maps/office.map"))
-            .expect("bundled map");
+    let office = lplace::engine::OFFICE_MAP;
     let line = "param A = 116.6; param L = 1.12;";
     assert_eq!(office.matches(line).count(), 1, "P2's beacon signature");
     let map = write(&d, "np.map", &office.replacen(line, "", 1));
