@@ -696,7 +696,7 @@ fn print_csv(
     let o = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v}"));
     writeln!(
         out,
-        "method,run,range_sigma_m,bearing_sigma_deg,keep,ate_rmse_m,ate_median_m,ate_max_m,ate_all_rmse_m,first_fix_s,kidnap_recovery_s,time_per_step_us,ate_common_rmse_m,common_from_s"
+        "method,run,range_sigma_m,bearing_sigma_deg,keep,ate_rmse_m,ate_median_m,ate_max_m,ate_all_rmse_m,first_fix_s,kidnap_recovery_s,time_per_step_us,ate_common_rmse_m,common_from_s,first_fix_t"
     )?;
     for r in rows {
         let recovery = match (r.kidnap_at, r.recovery) {
@@ -705,7 +705,7 @@ fn print_csv(
         };
         writeln!(
             out,
-            "{},main,0,0,1,{},{},{},{},{},{},{},{},{}",
+            "{},main,0,0,1,{},{},{},{},{},{},{},{},{},{}",
             r.method,
             o(r.ate.map(|a| a.rmse)),
             o(r.ate.map(|a| a.median)),
@@ -716,12 +716,13 @@ fn print_csv(
             r.time_per_step_us,
             o(r.ate_common.map(|a| a.rmse)),
             o(r.common_from),
+            o(r.first_fix_t),
         )?;
     }
     for p in points {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},,,,",
+            "{},{},{},{},{},{},{},{},{},{},,,,,",
             p.method,
             p.sweep,
             p.range_sigma,

@@ -417,6 +417,21 @@ fn compare_gives_the_first_fix_on_the_logs_clock_and_writes_the_kidnapped_run() 
     let after = row["first_fix"].as_f64().expect("a fix");
     let at = row["first_fix_t"].as_f64().expect("a fix time");
     assert!((at - t0 - after).abs() < 1e-6, "{row}");
+    // The CSV carries the same instant, by its header's name (the fpg row is the first).
+    let (csv, _) = run(&d.join("csv"), &["--format", "csv"]);
+    let mut lines = csv.lines();
+    let col = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|h| h == "first_fix_t");
+    let cell = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .nth(col.expect("a first_fix_t column"));
+    let csv_at: f64 = cell.unwrap().parse().expect("a number");
+    assert!((csv_at - at).abs() < 1e-9, "{csv}");
     let (table, kidnapped) = run(&kidnapped, &["--kidnap-at", "10", "--kidnap-by", "0,2,0"]);
     let said = format!("first fix on the log's clock (evo_ape --t_start): fpg t = {at:.3}");
     assert!(table.lines().any(|l| l == said), "{table}");
