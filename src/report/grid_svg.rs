@@ -277,14 +277,17 @@ fn marks(
     v: &View,
 ) {
     let _ = writeln!(s, r##"<g class="landmarks">"##);
-    for m in table.landmarks() {
-        let (x, y) = (v.px(f64::from(m.x)), v.py(f64::from(m.y)));
+    let dots: Vec<(f64, f64)> = table
+        .landmarks()
+        .iter()
+        .map(|m| (v.px(f64::from(m.x)), v.py(f64::from(m.y))))
+        .collect();
+    let ids: Vec<String> = table.landmarks().iter().map(|m| m.id.to_string()).collect();
+    let spots = label_spots(&dots, &ids);
+    for (((x, y), id), (lx, ly)) in dots.iter().zip(&ids).zip(spots) {
         let _ = writeln!(
             s,
-            r##"<circle class="landmark" cx="{x:.1}" cy="{y:.1}" r="4" fill="{LANDMARK}" stroke="white"/><text x="{:.1}" y="{:.1}" font-size="10">{}</text>"##,
-            x + 6.0,
-            y - 4.0,
-            m.id
+            r##"<circle class="landmark" cx="{x:.1}" cy="{y:.1}" r="4" fill="{LANDMARK}" stroke="white"/><text class="landmark-id" x="{lx:.1}" y="{ly:.1}" font-size="10">{id}</text>"##,
         );
     }
     let _ = writeln!(s, "</g>");
@@ -304,6 +307,59 @@ fn marks(
         x - 5.0,
         y - 5.0
     );
+}
+
+/// Width and height of a landmark id label, pixels (font size 10: a digit is about 6 px wide).
+fn label_size(text: &str) -> (f64, f64) {
+    (6.0 * text.chars().count() as f64, 10.0)
+}
+
+/// Where each dot's label goes (the text's baseline start): the first of eight spots around
+/// the dot, then the same eight spots farther out, whose box touches no label placed before
+/// and no dot — landmarks centimetres apart (MRCLAM's) would otherwise print their ids over
+/// each other. When every spot is taken the first one is used.
+///
+/// # Complexity
+///
+/// O(n² · 24) for n dots; a map has tens of landmarks.
+fn label_spots(dots: &[(f64, f64)], texts: &[String]) -> Vec<(f64, f64)> {
+    type Box4 = [f64; 4];
+    let meets = |a: &Box4, b: &Box4| a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3];
+    let dot_boxes: Vec<Box4> = dots
+        .iter()
+        .map(|&(x, y)| [x - 4.0, y - 4.0, x + 4.0, y + 4.0])
+        .collect();
+    let mut taken: Vec<Box4> = Vec::with_capacity(dots.len());
+    let mut spots = Vec::with_capacity(dots.len());
+    for (&(x, y), text) in dots.iter().zip(texts) {
+        let (w, h) = label_size(text);
+        // Box corners (left, top) of the eight spots at ring distance `r` from the dot.
+        let candidates = (0..3).flat_map(|ring| {
+            let r = 5.0 + 10.0 * f64::from(ring);
+            [
+                (x + r, y - r - h / 2.0),
+                (x + r, y - h / 2.0),
+                (x + r, y + r - h / 2.0),
+                (x - w / 2.0, y + r),
+                (x - r - w, y + r - h / 2.0),
+                (x - r - w, y - h / 2.0),
+                (x - r - w, y - r - h / 2.0),
+                (x - w / 2.0, y - r - h),
+            ]
+        });
+        let free = |&(l, t): &(f64, f64)| {
+            let b = [l, t, l + w, t + h];
+            !taken.iter().chain(&dot_boxes).any(|o| meets(&b, o))
+        };
+        let (l, t) = candidates
+            .clone()
+            .find(free)
+            .unwrap_or((x + 5.0, y - 5.0 - h / 2.0));
+        taken.push([l, t, l + w, t + h]);
+        // The text's baseline sits about 2 px above the box's bottom.
+        spots.push((l, t + h - 2.0));
+    }
+    spots
 }
 
 /// The legend right of the plot: the possibility colour scale (a swatch per tenth, labelled
@@ -377,4 +433,53 @@ fn legend(s: &mut String, v: &View, has_truth: bool) {
     }
     scale_bar(s, x, y + 16.0, v.x1 - v.x0, v.scale);
     let _ = writeln!(s, "</g>");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Label boxes from the spots as `label_spots` defines them (baseline 2 px above the bottom).
+    fn boxes(spots: &[(f64, f64)], texts: &[String]) -> Vec<[f64; 4]> {
+        spots
+            .iter()
+            .zip(texts)
+            .map(|(&(l, base), t)| {
+                let (w, h) = label_size(t);
+                [l, base + 2.0 - h, l + w, base + 2.0]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn ids_of_landmarks_centimetres_apart_do_not_overlap() {
+        // Five landmarks within a pixel of each other (MRCLAM has pairs 1–2 cm apart), one
+        // apart, two-digit ids.
+        let dots = [
+            (100.0, 100.0),
+            (100.4, 100.2),
+            (100.8, 99.7),
+            (99.5, 100.5),
+            (100.1, 99.2),
+            (300.0, 50.0),
+        ];
+        let texts: Vec<String> = (10..16).map(|k| k.to_string()).collect();
+        let b = boxes(&label_spots(&dots, &texts), &texts);
+        for i in 0..b.len() {
+            for j in 0..i {
+                let (p, q) = (b[i], b[j]);
+                let apart = p[2] <= q[0] || q[2] <= p[0] || p[3] <= q[1] || q[3] <= p[1];
+                assert!(apart, "labels {i} and {j} overlap: {p:?} {q:?}");
+            }
+            for &(x, y) in &dots {
+                let off = b[i][2] <= x - 4.0 || x + 4.0 <= b[i][0];
+                assert!(
+                    off || b[i][3] <= y - 4.0 || y + 4.0 <= b[i][1],
+                    "label {i} on a dot"
+                );
+            }
+        }
+        // A lone landmark keeps the first spot: up and right of its dot.
+        assert!(b[5][0] > 300.0 && b[5][3] <= 50.0, "{:?}", b[5]);
+    }
 }
