@@ -9,8 +9,8 @@
 //! fitted parameter) with `rules/laser.lpl` on every scan, and how often a place is asserted on
 //! scans outside every extent. Prints the table (`cargo test --release --test io buildings
 //! -- --nocapture` reruns it) and locks each figure a little below what was measured on
-//! 2026-12-02 (the `rules/laser.lpl` rows on 2026-12-03). Skips a building whose log is absent
-//! (`$LPLACE_DATA`, else `../shared/data`).
+//! 2026-12-02 (the `rules/laser.lpl` rows and Seattle on 2026-12-03). Skips a building whose log
+//! is absent (`$LPLACE_DATA`, else `../shared/data`); a gzipped log is read as it is.
 
 use crate::support::carmen::{self, repo};
 use crate::support::data_dir;
@@ -42,7 +42,7 @@ struct Building {
     plan_outside: f64,
 }
 
-const BUILDINGS: [Building; 2] = [
+const BUILDINGS: [Building; 3] = [
     // Measured: same log 71.9 % / 95.4 % / 0 %; held out (709 scans) 6.1 % / 81.4 % / 0.1 %.
     Building {
         name: "Intel Research Lab",
@@ -71,6 +71,27 @@ const BUILDINGS: [Building; 2] = [
         // Measured: 61.6 % / 93.3 % / 0.7 %, a place asserted on none of the scans outside.
         plan: "maps/freiburg-101-plan.map",
         plan_figures: (0.59, 0.90, 0.01),
+        plan_outside: 0.05,
+    },
+    // Measured: same log 5.4 % / 84.6 % / 0 %; held out (125 scans) 5.6 % / 14.3 % / 1.6 %.
+    // These lock a defect, not a goal: the log has no ODOM between scans 26 and 27 while the
+    // robot turns 80°, the extractor reads the gap as standing still, and from there on its
+    // heading is a quarter-turn off (median error 90°; the heading lock corrects only within
+    // ±45°). With that gap bridged by the two scans' poses the same protocols measure
+    // 73.9 % / 99.4 % / 0 % (same log) and 28.8 % / 94.4 % / 0 % (held out).
+    Building {
+        name: "Seattle",
+        log: "carmen-corrected-logs/seattle-corrected.log.gz",
+        map: "maps/seattle.map",
+        config: "config/seattle.ron",
+        same_log: (0.05, 0.80, 0.01),
+        held_out: (0.05, 0.10, 0.02),
+        // Measured with rules/laser.lpl: 3.2 % / 0 % / 0 % (gap bridged: 76.8 % / 100 % / 0 %).
+        held_out_laser: (0.03, 0.0, 0.01),
+        // Measured: 34.4 % / 0 % / 11.2 %, no scan outside every extent (gap bridged:
+        // 58.5 % / 92.9 % / 0 %).
+        plan: "maps/seattle-plan.map",
+        plan_figures: (0.33, 0.0, 0.12),
         plan_outside: 0.05,
     },
 ];
