@@ -13,7 +13,8 @@
 //! last scan's pose (data README). The increment between scans k and k+1 is therefore
 //! `(last ODOM before scan k+1) ⊖ (odom pose of scan k)`, expressed in the robot frame of scan
 //! k. The same formula is right for raw logs, where both are in the odometry frame. Without an
-//! `ODOM` in between, the two scans' odom poses are used. The first frame has no odometry.
+//! `ODOM` in between — or with none but one restating scan k's odom pose, the chain's restart
+//! — the two scans' odom poses are used. The first frame has no odometry.
 //!
 //! The side-wall fits of eq. (4) place readings in one frame by *integrating these raw
 //! increments*, never by the corrected pose, so no ground truth leaks into the percepts.
@@ -207,7 +208,13 @@ impl<'m> CarmenFramer<'m> {
     pub fn push(&mut self, msg: &CarmenMessage, laser_offset: f64) -> Option<FrameRecord> {
         match msg {
             CarmenMessage::Odom(o) => {
-                self.last_odom = Some(o.pose);
+                // An `ODOM` that restates the last scan's odom pose (in the corrected logs, the
+                // line the chain restarts from) is no motion reading: a segment with nothing
+                // else is a gap in the raw odometry, bridged by the scans' poses as when no
+                // `ODOM` came at all, not read as standing still (Seattle: an 80° turn lost).
+                if self.prev_scan_odom != Some(o.pose) {
+                    self.last_odom = Some(o.pose);
+                }
                 None
             }
             CarmenMessage::Param { .. } => None,

@@ -88,6 +88,31 @@ fn one_frame_per_scan_with_odometry_and_hand_worked_truth() {
 }
 
 #[test]
+fn a_segment_with_only_the_restating_odom_uses_the_scan_poses() {
+    // Between the two scans the log has only the chain's restart (the first scan's pose again,
+    // time 0): no raw odometry, while the robot turned 90° and moved 1 m. The increment is then
+    // the two scans' odom poses', as with no ODOM at all — not zero.
+    let text = [
+        flaser(2.0, 0.5, 0.2, 0.0, 1.0),
+        "ODOM 0.5 0.2 0 0 0 0 0 pippo 0".to_owned(),
+        flaser(2.0, 1.5, 0.2, std::f64::consts::FRAC_PI_2, 2.0),
+        // A real reading between the next two: the restart line before it changes nothing.
+        "ODOM 1.5 0.2 1.5707963267948966 0 0 0 0 pippo 0".to_owned(),
+        "ODOM 1.5 1.2 1.5707963267948966 0 0 0 2.5 pippo 2.5".to_owned(),
+        flaser(2.0, 1.5, 1.3, std::f64::consts::FRAC_PI_2, 3.0),
+    ]
+    .join("\n")
+        + "\n";
+    let (frames, bad) = run(&text, None);
+    assert!(bad.is_empty());
+    let o = frames[1].odometry.expect("second frame has odometry");
+    assert!((o.dx - 1.0).abs() < 1e-9 && o.dy.abs() < 1e-9 && (o.dtheta - 90.0).abs() < 1e-9);
+    // From the ODOM chain (1 m forward), not the scan poses (1.1 m).
+    let o = frames[2].odometry.expect("third frame has odometry");
+    assert!((o.dx - 1.0).abs() < 1e-9 && o.dy.abs() < 1e-9 && o.dtheta.abs() < 1e-9);
+}
+
+#[test]
 fn frames_carry_every_percept_and_valid_degrees() {
     let (frames, _) = run(&log(), None);
     let names: Vec<(String, Vec<String>)> = frames[0]

@@ -1,13 +1,15 @@
 //! The CARMEN buildings' shared steps: a repository file's text, a map loaded from the
 //! repository, and a raw log extracted to frames as `lplace extract --map` does (the map's
-//! `axis D;` replaces the config's axis).
+//! `axis D;` replaces the config's axis). Logs kept gzipped (`*.log.gz`, the data set's
+//! secondary buildings) are read through a decoder, never unpacked to disk.
 
+use flate2::read::GzDecoder;
 use lplace::io::carmen_stream::{convert, CarmenFramer};
 use lplace::io::record::FrameRecord;
 use lplace::map::Map;
 use lplace::percept::ExtractConfig;
 use lplace::syntax::parse_map;
-use std::io::BufReader;
+use std::io::{BufReader, Read};
 use std::path::{Path, PathBuf};
 
 /// The text of a file of the repository (`maps/intel.map`).
@@ -24,7 +26,8 @@ pub fn load_map(path: &str) -> Map {
 }
 
 /// The frames of a CARMEN log with the extractor config at `config` (a repository path), truth
-/// places from `map`'s extents and its axis, if it states one.
+/// places from `map`'s extents and its axis, if it states one. A `.gz` log is decompressed as it
+/// is read.
 pub fn extract(log: &Path, config: &str, map: &Map) -> Vec<FrameRecord> {
     let mut cfg = ExtractConfig::from_ron(&repo(config)).expect("extractor config");
     if let Some(axis) = map.axis_deg() {
@@ -32,9 +35,14 @@ pub fn extract(log: &Path, config: &str, map: &Map) -> Vec<FrameRecord> {
     }
     let mut framer = CarmenFramer::new(cfg, Some(map.places())).expect("a valid config");
     let file = std::fs::File::open(log).expect("the log opens");
+    let source: Box<dyn Read> = if log.extension().is_some_and(|e| e == "gz") {
+        Box::new(GzDecoder::new(file))
+    } else {
+        Box::new(file)
+    };
     let mut frames = Vec::new();
     convert(
-        BufReader::new(file),
+        BufReader::new(source),
         &mut framer,
         |f| -> Result<(), ()> {
             frames.push(f);
