@@ -7,8 +7,10 @@ Issue 17, item 7: the peer a user would pick instead of lplace is MRPT's `pf-loc
 1. builds an occupancy grid from the same survey run lplace's map was surveyed on (the
    corrected log; `carmen2simplemap`, the grid is made from the simple map by `pf-localization`
    with the settings of `MetricMap` below),
-2. rebuilds the raw odometry from the log's ODOM lines (the corrected logs carry the corrected
-   pose in both FLASER pose slots) and converts the run with it (`carmen2rawlog`),
+2. rebuilds the run's odometry from the log's ODOM lines (the corrected logs carry the
+   corrected pose in both FLASER pose slots) and converts the run with it (`carmen2rawlog`);
+   these ODOM lines are the odometry `lplace extract` reads too, and they are themselves close
+   to the corrected trajectory (docs/results.md),
 3. runs `pf-localization` started at the known first pose, and from no prior (uniform over the
    grid's free cells) with 5,000 and 40,000 particles, and parses the estimates from its log
    (it writes no pose file),
@@ -325,8 +327,14 @@ def pct(a, b):
     return 100.0 * a / b if b else 0.0
 
 
+# A run confidently wrong on more scans than this (percent of those at a place) is counted as
+# one that locked onto a wrong pose.
+LOCKED_WRONG_PCT = 5.0
+
+
 def row(name, method, protocol, runs):
-    """A Markdown row: the mean over runs, and the range when there are several."""
+    """A Markdown row: the mean over runs, and the range when there are several; and how many
+    runs locked onto a wrong pose."""
     def fig(vals, fmt):
         m = statistics.mean(vals)
         if len(vals) > 1 and max(vals) - min(vals) > 1e-9:
@@ -337,8 +345,10 @@ def row(name, method, protocol, runs):
     right = [pct(r[2], r[1]) for r in runs]
     cw = [pct(r[3], r[0]) for r in runs]
     ms = [r[4] for r in runs]
+    locked = sum(c > LOCKED_WRONG_PCT for c in cw)
     return (f"| {name} | {method} | {protocol} | {len(runs)} | {at} | {fig(decided, '{:.1f} %')}"
-            f" | {fig(right, '{:.1f} %')} | {fig(cw, '{:.1f} %')} | {fig(ms, '{:.2f}')} ms |")
+            f" | {fig(right, '{:.1f} %')} | {fig(cw, '{:.1f} %')} | {locked} | "
+            f"{fig(ms, '{:.2f}')} ms |")
 
 
 # ---------------------------------------------------------------- main
@@ -355,7 +365,13 @@ def building(key, args, lplace, lookup, work):
     odom, scans = read_log(log)
     simplemap, rawlog = write_logs(b, odom, scans, wdir)
     truth = places_of(lookup, b["map"], [(p[0], p[1]) for _, p, _ in scans])
-    rows = [row(b["name"], "lplace", "surveyed map, grid tracker", [lplace_row(b, lplace, log)])]
+    own = lplace_row(b, lplace, log)
+    # Both scored on the same scans: the extents looked up here must hold what extract labelled.
+    at_place = sum(t is not None for t in truth)
+    if own[0] != at_place:
+        raise ScriptError(f"{b['name']}: lplace scores {own[0]} scans at a place, the "
+                          f"lookup finds {at_place}")
+    rows = [row(b["name"], "lplace", "surveyed map, grid tracker", [own])]
     protocols = [("known first pose", args.known_particles, init_known(scans[0][1]))]
     protocols += [("no prior", n, init_uniform(scans)) for n in args.particles]
     for label, n, init in protocols:
@@ -410,12 +426,14 @@ def main():
         finally:
             if not args.work:
                 shutil.rmtree(work, ignore_errors=True)
+        if not rows:
+            raise ScriptError(f"no building's log found under {data_dir()}")
     except (ScriptError, ValueError, OSError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
     print("| building | method | protocol | runs | scans at a place | decided | right of decided "
-          "| confidently wrong | time per scan |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          f"| confidently wrong | runs > {LOCKED_WRONG_PCT:g} % confidently wrong | time per scan |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     print("\n".join(rows))
     return 0
 
