@@ -1,0 +1,442 @@
+#!/usr/bin/env python3
+"""MRPT's particle-filter localization beside lplace on the mapped CARMEN buildings.
+
+Issue 17, item 7: the peer a user would pick instead of lplace is MRPT's `pf-localization`
+(Monte Carlo localization on an occupancy grid). For each building this script
+
+1. builds an occupancy grid from the same survey run lplace's map was surveyed on (the
+   corrected log; `carmen2simplemap`, the grid is made from the simple map by `pf-localization`
+   with the settings of `MetricMap` below),
+2. rebuilds the run's odometry from the log's ODOM lines (the corrected logs carry the
+   corrected pose in both FLASER pose slots) and converts the run with it (`carmen2rawlog`);
+   these ODOM lines are the odometry `lplace extract` reads too, and they are themselves close
+   to the corrected trajectory (docs/results.md),
+3. runs `pf-localization` started at the known first pose, and from no prior (uniform over the
+   grid's free cells) with 5,000 and 40,000 particles, and parses the estimates from its log
+   (it writes no pose file),
+4. looks every estimate up in the map's place extents (`examples/place_of_pose`, lplace's own
+   `contains`, as `lplace extract --map` labels the truth) and scores it as lplace is scored,
+5. prints one Markdown row per building and protocol, lplace's own row first.
+
+Scoring (per scan whose corrected pose lies in some extent, "at a place"):
+  decided           the filter has converged, spread <= --decided-spread (default 1.0), and its
+                    mean pose lies in some place's extent;
+  right             decided, and that place is the truth's;
+  confidently wrong decided, wrong, and spread <= --confident-spread (default 0.5).
+The spread is what pf-localization prints as `tr(cov)`: the square root of the trace of the
+particles' covariance over (x, y, heading), in m and rad. lplace's row uses its own summary:
+decided = a place asserted, confidently wrong = wrong with necessity >= 0.9. Time per scan:
+pf-localization's own `Done in` time of each filter step (no log parsing, no map building);
+lplace's is the wall time of `lplace extract` plus `lplace eval` over the whole log, process
+start and JSON included, divided by the scans.
+
+Needs (installs nothing): MRPT's applications, on Debian 12 `apt-get install mrpt-apps`
+(MRPT 2.5.8: carmen2simplemap, carmen2rawlog, pf-localization); cargo (builds `lplace` and
+`examples/place_of_pose`); the logs under $LPLACE_DATA (else ../shared/data).
+Not run by CI. Runs `pf-localization` under `nice -n 10`.
+
+    scripts/mrpt_side_by_side.py                      # both buildings, all protocols, 1 run each
+    scripts/mrpt_side_by_side.py --runs 3 --buildings intel --particles 5000
+"""
+
+import argparse
+import json
+import math
+import os
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+TOOLS = ("carmen2simplemap", "carmen2rawlog", "pf-localization")
+
+# The buildings of the README's table: the log, lplace's surveyed map (its extents are the truth
+# and the places looked up), the extractor config and the laser as the log does not state it.
+BUILDINGS = {
+    "intel": {
+        "name": "Intel Research Lab",
+        "log": "carmen-corrected-logs/intel-corrected.log",
+        "map": "maps/intel.map",
+        "config": "config/intel.ron",
+        "resolution_deg": 1.0,
+    },
+    "freiburg-101": {
+        "name": "Freiburg 101",
+        "log": "carmen-corrected-logs/freiburg-101-corrected.log",
+        "map": "maps/freiburg-101.map",
+        "config": "config/freiburg-101.ron",
+        "resolution_deg": 0.5,
+    },
+}
+
+# Readings at or beyond this are no-returns (the logs write 81.83 / 81.91 m); MRPT's default
+# laser is 0.5 degrees per beam and 81 m, so both are written as PARAM lines.
+NO_RETURN_M = 80.0
+
+
+class ScriptError(Exception):
+    """A problem the script reports on one line and exits 2 with."""
+
+
+def run(cmd, **kw):
+    """Runs a command, raising ScriptError with its output's tail on failure."""
+    p = subprocess.run(cmd, capture_output=True, text=True, **kw)
+    if p.returncode != 0:
+        tail = (p.stdout + p.stderr)[-2000:]
+        raise ScriptError(f"{' '.join(map(str, cmd))} exited {p.returncode}:\n{tail}")
+    return p
+
+
+def data_dir():
+    env = os.environ.get("LPLACE_DATA")
+    return Path(env) if env else REPO.parent / "shared" / "data"
+
+
+def cargo_targets():
+    """Builds lplace and examples/place_of_pose; returns the two executables."""
+    run(["cargo", "build", "--release", "--quiet", "--bin", "lplace",
+         "--example", "place_of_pose"], cwd=REPO)
+    meta = json.loads(run(["cargo", "metadata", "--format-version", "1", "--no-deps"],
+                          cwd=REPO).stdout)
+    release = Path(meta["target_directory"]) / "release"
+    return release / "lplace", release / "examples" / "place_of_pose"
+
+
+# ---------------------------------------------------------------- the log, rewritten for MRPT
+
+
+def read_log(path):
+    """The ODOM poses (t, x, y, th) and the FLASER scans (ranges, corrected pose, t)."""
+    odom, scans = [], []
+    with open(path) as f:
+        for n, line in enumerate(f, 1):
+            tok = line.split()
+            if not tok:
+                continue
+            try:
+                if tok[0] == "ODOM":
+                    x, y, th = map(float, tok[1:4])
+                    odom.append((float(tok[7]), x, y, th))
+                elif tok[0] == "FLASER":
+                    k = int(tok[1])
+                    ranges = tok[2:2 + k]
+                    x, y, th = map(float, tok[2 + k:5 + k])
+                    scans.append((ranges, (x, y, th), float(tok[8 + k])))
+            except (ValueError, IndexError) as e:
+                raise ScriptError(f"{path}:{n}: unreadable {tok[0]} line ({e})")
+    if not odom or not scans:
+        raise ScriptError(f"{path}: no ODOM or no FLASER lines")
+    return odom, scans
+
+
+def wrap(a):
+    return math.atan2(math.sin(a), math.cos(a))
+
+
+def odom_at(odom, t, i):
+    """The raw odometry pose at time t, interpolated between ODOM lines; i is a search hint
+    (the index of the last ODOM at or before the previous scan). Returns (pose, new hint)."""
+    while i + 1 < len(odom) and odom[i + 1][0] <= t:
+        i += 1
+    t0, x0, y0, a0 = odom[i]
+    if i + 1 >= len(odom) or t <= t0:
+        return (x0, y0, a0), i
+    t1, x1, y1, a1 = odom[i + 1]
+    s = (t - t0) / (t1 - t0) if t1 > t0 else 0.0
+    return (x0 + s * (x1 - x0), y0 + s * (y1 - y0), wrap(a0 + s * wrap(a1 - a0))), i
+
+
+def write_logs(b, odom, scans, work):
+    """Two CARMEN logs for MRPT: the survey (corrected pose, for the grid) and the run (raw
+    odometry in both pose slots, so the laser sits at the robot's origin as in the survey)."""
+    params = [
+        f"PARAM laser_front_laser_resolution {b['resolution_deg']} nohost 0",
+        f"PARAM robot_front_laser_max {NO_RETURN_M} nohost 0",
+    ]
+    survey, raw = work / "survey.log", work / "run.log"
+    i = 0
+    with open(survey, "w") as fs, open(raw, "w") as fr:
+        for f in (fs, fr):
+            f.write("\n".join(params) + "\n")
+        for ranges, (x, y, th), t in scans:
+            head = f"FLASER {len(ranges)} {' '.join(ranges)}"
+            fs.write(f"{head} {x} {y} {th} {x} {y} {th} {t} nohost {t}\n")
+            (ox, oy, oa), i = odom_at(odom, t, i)
+            fr.write(f"{head} {ox} {oy} {oa} {ox} {oy} {oa} {t} nohost {t}\n")
+    run(["carmen2simplemap", "-q", "-w", "-i", survey, "-o", work / "survey.simplemap"])
+    run(["carmen2rawlog", "-q", "-w", "-i", raw, "-o", work / "run.rawlog"])
+    return work / "survey.simplemap", work / "run.rawlog"
+
+
+# ---------------------------------------------------------------- pf-localization
+
+
+def ini_text(b, simplemap, rawlog, out_dir, particles, init):
+    """pf-localization's configuration: a fixed particle count (no KLD adaptation), the
+    likelihood field on a 5 cm grid, the given initial distribution."""
+    beams = 180.0 / b["resolution_deg"]
+    decimation = max(1, round(beams / 36))  # about 36 rays per scan in the likelihood
+    return f"""
+[KLD_options]
+KLD_binSize_PHI_deg=10
+KLD_binSize_XY=0.10
+KLD_delta=0.01
+KLD_epsilon=0.01
+KLD_maxSampleSize={particles}
+KLD_minSampleSize={particles}
+
+[PF_options]
+PF_algorithm=0
+resamplingMethod=0
+adaptiveSampleSize=0
+BETA=0.5
+sampleSize={particles}
+
+[DummyOdometryParams]
+minStdXY=0.10
+minStdPHI=2.0
+
+[LocalizationExperiment]
+map_file={simplemap}
+rawlog_file={rawlog}
+logOutput_dir={out_dir}
+3DSceneFrequency=-1
+experimentRepetitions=1
+particles_count={particles}
+SAVE_STATS_ONLY=false
+SHOW_PROGRESS_3D_REAL_TIME=false
+{init}
+
+[MetricMap]
+occupancyGrid_count=1
+gasGrid_count=0
+pointsMap_count=0
+beaconMap_count=0
+likelihoodMapSelection=-1
+enableInsertion_gridMaps=1
+
+[MetricMap_occupancyGrid_00_creationOpts]
+resolution=0.05
+
+[MetricMap_occupancyGrid_00_insertOpts]
+mapAltitude=0
+useMapAltitude=0
+maxDistanceInsertion=30
+maxOccupancyUpdateCertainty=0.55
+considerInvalidRangesAsFreeSpace=0
+
+[MetricMap_occupancyGrid_00_likelihoodOpts]
+likelihoodMethod=4
+LF_decimation={decimation}
+LF_stdHit=0.20
+LF_maxCorrsDistance=0.30
+LF_zHit=0.95
+LF_zRandom=0.05
+LF_maxRange=30
+LF_alternateAverageMethod=0
+"""
+
+
+def init_known(first):
+    """Uniform over a 0.2 m box and 4 degrees around the first corrected pose."""
+    x, y, th = first
+    d = math.degrees(th)
+    return (f"init_PDF_mode=1\ninit_PDF_min_x={x - 0.1}\ninit_PDF_max_x={x + 0.1}\n"
+            f"init_PDF_min_y={y - 0.1}\ninit_PDF_max_y={y + 0.1}\n"
+            f"init_PDF_min_yaw_deg={d - 2}\ninit_PDF_max_yaw_deg={d + 2}")
+
+
+def init_uniform(scans):
+    """Uniform over the grid's free cells within the survey's bounding box and 20 m around."""
+    xs = [p[0] for _, p, _ in scans]
+    ys = [p[1] for _, p, _ in scans]
+    return (f"init_PDF_mode=0\ninit_PDF_min_x={min(xs) - 20}\ninit_PDF_max_x={max(xs) + 20}\n"
+            f"init_PDF_min_y={min(ys) - 20}\ninit_PDF_max_y={max(ys) + 20}\n"
+            "init_PDF_min_yaw_deg=-180\ninit_PDF_max_yaw_deg=180")
+
+
+ESTIMATE = re.compile(r"PDF estimation: \(([-\d.e+]+),([-\d.e+]+),([-\d.e+]+)(?:deg)?\).*"
+                      r"tr\(cov\): ([-\d.e+naif]+)")
+DONE = re.compile(r"Done in ([\d.]+)ms")
+
+
+def run_pf(b, simplemap, rawlog, work, tag, particles, init):
+    """One pf-localization run: per scan the mean pose and spread, and the step times (ms)."""
+    out = work / tag
+    ini = work / f"{tag}.ini"
+    ini.write_text(ini_text(b, simplemap, rawlog, out, particles, init))
+    p = run(["nice", "-n", "10", "pf-localization", ini])
+    text = p.stdout + p.stderr
+    (work / f"{tag}.txt").write_text(text)
+    est = [(float(m[1]), float(m[2]), float(m[4])) for m in ESTIMATE.finditer(text)]
+    times = [float(m[1]) for m in DONE.finditer(text)]
+    return est, times
+
+
+# ---------------------------------------------------------------- scoring
+
+
+def places_of(lookup, map_path, points):
+    """The place holding each point, or None (examples/place_of_pose)."""
+    text = "".join(f"{x} {y}\n" for x, y in points)
+    p = run([lookup, REPO / map_path], input=text)
+    names = p.stdout.split("\n")[:len(points)]
+    if len(names) != len(points):
+        raise ScriptError(f"place_of_pose answered {len(names)} of {len(points)} points")
+    return [None if n == "-" else n for n in names]
+
+
+def score(truth, estimate, spread, args):
+    at = dec = right = cw = 0
+    for t, e, s in zip(truth, estimate, spread):
+        if t is None:
+            continue
+        at += 1
+        if e is None or not s <= args.decided_spread:
+            continue
+        dec += 1
+        if e == t:
+            right += 1
+        elif s <= args.confident_spread:
+            cw += 1
+    return at, dec, right, cw
+
+
+def lplace_row(b, lplace, log):
+    """lplace's surveyed-map row: extract and evaluate as the README's buildings table does."""
+    t0 = time.perf_counter()
+    frames = run([lplace, "extract", "--from", "carmen", log, "--map", REPO / b["map"],
+                  "--config", REPO / b["config"]], cwd=REPO).stdout
+    p = run([lplace, "eval", "-", "--map", REPO / b["map"], "--rules", REPO / "rules/intel.lpl",
+             "--tracker", REPO / "config/intel-tracker.ron", "--only-summary",
+             "--summary", "json"], input=frames, cwd=REPO)
+    elapsed = time.perf_counter() - t0
+    s = json.loads(p.stdout)
+    truth = s["truth"]
+    dec = truth["correct"] + truth["wrong"]
+    return (truth["at_place"], dec, truth["correct"], truth["confidently_wrong"],
+            1e3 * elapsed / s["frames"])
+
+
+def pct(a, b):
+    return 100.0 * a / b if b else 0.0
+
+
+# A run confidently wrong on more scans than this (percent of those at a place) is counted as
+# one that locked onto a wrong pose.
+LOCKED_WRONG_PCT = 5.0
+
+
+def row(name, method, protocol, runs):
+    """A Markdown row: the mean over runs, and the range when there are several; and how many
+    runs locked onto a wrong pose."""
+    def fig(vals, fmt):
+        m = statistics.mean(vals)
+        if len(vals) > 1 and max(vals) - min(vals) > 1e-9:
+            return f"{fmt.format(m)} ({fmt.format(min(vals))}–{fmt.format(max(vals))})"
+        return fmt.format(m)
+    at = runs[0][0]
+    decided = [pct(r[1], r[0]) for r in runs]
+    right = [pct(r[2], r[1]) for r in runs]
+    cw = [pct(r[3], r[0]) for r in runs]
+    ms = [r[4] for r in runs]
+    locked = sum(c > LOCKED_WRONG_PCT for c in cw)
+    return (f"| {name} | {method} | {protocol} | {len(runs)} | {at} | {fig(decided, '{:.1f} %')}"
+            f" | {fig(right, '{:.1f} %')} | {fig(cw, '{:.1f} %')} | {locked} | "
+            f"{fig(ms, '{:.2f}')} ms |")
+
+
+# ---------------------------------------------------------------- main
+
+
+def building(key, args, lplace, lookup, work):
+    b = BUILDINGS[key]
+    log = data_dir() / b["log"]
+    if not log.is_file():
+        print(f"SKIP {b['name']}: {log} not found (set LPLACE_DATA)", file=sys.stderr)
+        return []
+    wdir = work / key
+    wdir.mkdir(parents=True, exist_ok=True)
+    odom, scans = read_log(log)
+    simplemap, rawlog = write_logs(b, odom, scans, wdir)
+    truth = places_of(lookup, b["map"], [(p[0], p[1]) for _, p, _ in scans])
+    own = lplace_row(b, lplace, log)
+    # Both scored on the same scans: the extents looked up here must hold what extract labelled.
+    at_place = sum(t is not None for t in truth)
+    if own[0] != at_place:
+        raise ScriptError(f"{b['name']}: lplace scores {own[0]} scans at a place, the "
+                          f"lookup finds {at_place}")
+    rows = [row(b["name"], "lplace", "surveyed map, grid tracker", [own])]
+    protocols = [("known first pose", args.known_particles, init_known(scans[0][1]))]
+    protocols += [("no prior", n, init_uniform(scans)) for n in args.particles]
+    for label, n, init in protocols:
+        results = []
+        for r in range(args.runs):
+            tag = f"{label.replace(' ', '-')}-{n}-{r}"
+            est, times = run_pf(b, simplemap, rawlog, wdir, tag, n, init)
+            if len(est) != len(scans):
+                raise ScriptError(f"{b['name']} {tag}: {len(est)} estimates for "
+                                  f"{len(scans)} scans (see {wdir / tag}.txt)")
+            where = places_of(lookup, b["map"], [(x, y) for x, y, _ in est])
+            at, dec, right, cw = score(truth, where, [s for _, _, s in est], args)
+            ms = statistics.mean(times) if times else float("nan")
+            results.append((at, dec, right, cw, ms))
+            print(f"{b['name']} {tag}: {at} at a place, decided {dec}, right {right}, "
+                  f"confidently wrong {cw}, {ms:.2f} ms/scan", file=sys.stderr)
+        rows.append(row(b["name"], "MRPT pf-localization", f"{label}, {n:,} particles",
+                        results))
+    return rows
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--buildings", default="intel,freiburg-101",
+                    help="comma-separated: " + ", ".join(BUILDINGS))
+    ap.add_argument("--particles", default="5000,40000",
+                    help="particle counts of the no-prior runs (comma-separated)")
+    ap.add_argument("--known-particles", type=int, default=5000,
+                    help="particles of the run started at the known first pose")
+    ap.add_argument("--runs", type=int, default=1, help="runs per protocol (MRPT seeds anew)")
+    ap.add_argument("--decided-spread", type=float, default=1.0)
+    ap.add_argument("--confident-spread", type=float, default=0.5)
+    ap.add_argument("--work", help="keep the intermediate files here (default: a temporary "
+                    "directory, removed)")
+    args = ap.parse_args()
+    try:
+        args.particles = [int(n) for n in args.particles.split(",") if n]
+        keys = [k for k in args.buildings.split(",") if k]
+        unknown = [k for k in keys if k not in BUILDINGS]
+        if unknown:
+            raise ScriptError(f"unknown building(s) {unknown}; known: {list(BUILDINGS)}")
+        missing = [t for t in TOOLS if shutil.which(t) is None]
+        if missing:
+            raise ScriptError(f"{', '.join(missing)} not found: this script needs MRPT's "
+                              "applications (Debian 12: apt-get install mrpt-apps, 2.5.8)")
+        lplace, lookup = cargo_targets()
+        work = Path(args.work) if args.work else Path(tempfile.mkdtemp(prefix="mrpt-sbs-"))
+        rows = []
+        try:
+            for k in keys:
+                rows += building(k, args, lplace, lookup, work)
+        finally:
+            if not args.work:
+                shutil.rmtree(work, ignore_errors=True)
+        if not rows:
+            raise ScriptError(f"no building's log found under {data_dir()}")
+    except (ScriptError, ValueError, OSError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    print("| building | method | protocol | runs | scans at a place | decided | right of decided "
+          f"| confidently wrong | runs > {LOCKED_WRONG_PCT:g} % confidently wrong | time per scan |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("\n".join(rows))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
