@@ -21,6 +21,7 @@ pub mod estimate;
 pub mod observe;
 pub mod place;
 pub mod predict;
+pub mod start;
 pub mod trapezoid;
 mod workspace;
 
