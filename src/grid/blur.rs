@@ -6,8 +6,8 @@
 //! column passes, all of it for the square's. A pass whose profile is 0 one cell away is the
 //! identity. [`Blur::Drop`] applies (and so consumes) any radius of a cell or more, so below
 //! ≈ 2.4 cells (octagon) the radius is spent and nothing moves; [`Blur::Carry`] keeps the
-//! radius pending until the row or column pass lowers the neighbouring cell by no more than to
-//! `level`, i.e. until applying it moves possibility one cell at least to that height.
+//! radius pending until the row or column pass would give the neighbouring cell at least
+//! `level` times its source's possibility, i.e. until applying it moves possibility one cell.
 //!
 //! # Complexity
 //!
