@@ -404,6 +404,27 @@ impl ParticleFilter {
         Ok(pf)
     }
 
+    /// Puts every particle at `pose`, weights equal (tracking from a known pose instead of
+    /// global localization); the motion noise spreads them from the first prediction on.
+    ///
+    /// # Errors
+    /// [`BaselineError::BadConfig`] (field `start`) when a value of `pose` is not finite; the
+    /// particles are then unchanged.
+    pub fn start_at(&mut self, pose: Pose2) -> Result<(), BaselineError> {
+        if !(pose.x.is_finite() && pose.y.is_finite() && pose.theta.is_finite()) {
+            return Err(BaselineError::BadConfig {
+                field: "start",
+                reason: "the start pose must be finite",
+            });
+        }
+        let n = self.x.len();
+        self.x.fill(pose.x);
+        self.y.fill(pose.y);
+        self.th.fill(wrap(pose.theta));
+        self.w.fill(1.0 / n.max(1) as f64);
+        Ok(())
+    }
+
     /// The configuration.
     pub fn config(&self) -> &PfConfig {
         &self.cfg
@@ -733,5 +754,27 @@ mod tests {
         };
         let l = pf.likelihood(&r, 0.0, 0.0, 0.0);
         assert!((l - 0.645_88).abs() < 1e-4, "{l}");
+    }
+
+    #[test]
+    fn start_at_puts_every_particle_on_the_pose_and_rejects_nan() {
+        let t = LandmarkTable::new(vec![]).unwrap();
+        let mut pf =
+            ParticleFilter::new(&t, &PfConfig::default(), [0.0, 0.0, 5.0, 5.0], 3).unwrap();
+        let p = Pose2 {
+            x: 1.5,
+            y: 2.5,
+            theta: -3.0,
+        };
+        pf.start_at(p).unwrap();
+        let e = pf.estimate();
+        assert!(
+            (e.pose.x - 1.5).abs() < 1e-9 && (e.pose.y - 2.5).abs() < 1e-9,
+            "{e:?}"
+        );
+        assert!((e.pose.theta + 3.0).abs() < 1e-9, "{e:?}");
+        assert_eq!(e.reliability, 1.0);
+        assert!(pf.start_at(Pose2 { x: f64::NAN, ..p }).is_err());
+        assert!(pf.particles().all(|(x, _, _, _)| x == 1.5));
     }
 }

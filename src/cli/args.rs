@@ -550,6 +550,11 @@ pub struct CompareArgs {
     /// Seed of the sampling methods and of the sweeps' perturbations (same seed, same output).
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub seed: u64,
+    /// Tracking: start every method from the first frame's truth pose instead of total
+    /// ignorance (the grid in that one cell with its heading, the particles all on it); fpg and
+    /// pf only.
+    #[arg(long)]
+    pub start_at_truth: bool,
     /// Write each method's trajectory (unperturbed run; with --kidnap-at, the kidnapped run)
     /// into this directory as METHOD.tum (`pf:500` → pf-500.tum); the directory is created if
     /// needed.

@@ -23,6 +23,7 @@ use super::grid::{
 };
 use super::{CliError, EXIT_OK, EXIT_REJECTED};
 use crate::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
+use crate::core::Pose2;
 use crate::grid::{GridConfig, LandmarkTable};
 use crate::localize::grid::GridLocalizer;
 use crate::localize::perturb::{perturb, Perturbation, KEEP_LEVELS, NOISE_LEVELS};
@@ -133,6 +134,8 @@ struct Setup<'a> {
     /// Where the sampling methods start spread: the grid's bounds, so all start alike.
     bounds: [f32; 4],
     seed: u64,
+    /// `--start-at-truth`: the first frame's truth pose every method starts from.
+    start: Option<Pose2>,
 }
 
 /// One method's run.
@@ -187,6 +190,9 @@ fn run_method(
     Ok(match spec {
         MethodSpec::Fpg => {
             let mut g = GridLocalizer::new(s.table, s.grid).map_err(|e| why(&e))?;
+            if let Some(p) = s.start {
+                g.start_at(p).map_err(|e| why(&e))?;
+            }
             timed(&mut g, s.table, frames, opts)
         }
         MethodSpec::Pf { particles } => {
@@ -196,6 +202,9 @@ fn run_method(
             };
             let mut pf =
                 ParticleFilter::new(s.table, &cfg, s.bounds, s.seed).map_err(|e| why(&e))?;
+            if let Some(p) = s.start {
+                pf.start_at(p).map_err(|e| why(&e))?;
+            }
             timed(&mut pf, s.table, frames, opts)
         }
         MethodSpec::Rmcl => {
@@ -290,7 +299,7 @@ pub fn run(args: &CompareArgs, out: &mut impl Write) -> Result<u8, CliError> {
     check_outputs(args)?;
     let input = load_frames(&args.input)?;
     let frames = &input.frames;
-    let setup = setup(args, &input.table, &grid)?;
+    let setup = setup(args, &input.table, &grid, frames)?;
     let kidnapped = kidnap(&args.kidnap, frames)?;
     if let Some(dir) = &args.tum_dir {
         std::fs::create_dir_all(dir).map_err(|e| output_error(dir, e))?;
@@ -344,7 +353,19 @@ fn setup<'a>(
     args: &CompareArgs,
     table: &'a LandmarkTable,
     grid: &'a GridConfig,
+    frames: &[MetricFrame],
 ) -> Result<Setup<'a>, CliError> {
+    let start = if args.start_at_truth {
+        if args.methods.contains(&MethodSpec::Rmcl) {
+            return Err(bad(
+                "--start-at-truth: rmcl cannot start from a pose (fpg and pf can)",
+            ));
+        }
+        let first = frames.first().and_then(|f| f.truth);
+        Some(first.ok_or_else(|| bad("--start-at-truth: the first frame has no truth pose"))?)
+    } else {
+        None
+    };
     let bounds = match grid.bounds {
         Some(b) => b,
         None => table
@@ -364,6 +385,7 @@ fn setup<'a>(
         },
         bounds,
         seed: args.seed,
+        start,
     })
 }
 

@@ -5,7 +5,7 @@
 //! documents the defaults, which were chosen for a camera measuring range and
 //! bearing to landmarks a few metres away (MRCLAM dataset 7).
 
-use super::{GridError, Trapezoid};
+use super::{Blur, GridError, Trapezoid};
 use serde::{Deserialize, Serialize};
 
 /// How an observation's possibility distribution is combined with the grid.
@@ -122,6 +122,10 @@ pub struct GridConfig {
     pub element: ElementShape,
     /// T-norm of the dilation. Default sup-min (paper 000).
     pub dilation: Dilation,
+    /// When a motion blur too small for the dilation's passes to reach a neighbour is applied
+    /// ([`crate::grid::blur`]): `Drop` (default) spends it, `Carry(level: …)` keeps it pending
+    /// until it moves possibility one cell.
+    pub blur: Blur,
     /// Radius (metres) at which the element's possibility is still 1, per
     /// metre travelled: odometry can be trusted to this fraction. Default 0.1.
     pub core_per_metre: f32,
@@ -202,6 +206,7 @@ impl Default for GridConfig {
             normalize: true,
             element: ElementShape::Octagon,
             dilation: Dilation::SupMin,
+            blur: Blur::Drop,
             core_per_metre: 0.1,
             flank_per_metre: 0.2,
             flank_per_second: 0.02,
@@ -288,6 +293,12 @@ impl GridConfig {
                     reason: "need finite x_min < x_max, y_min < y_max",
                 });
             }
+        }
+        if !self.blur.is_valid() {
+            return Err(GridError::BadConfig {
+                field: "blur",
+                reason: "Carry's level must be in (0, 1]",
+            });
         }
         self.range.validate("range")?;
         self.bearing.validate("bearing")?;

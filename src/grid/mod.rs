@@ -12,6 +12,7 @@
 //! May depend on: `core` (angle wrapping), `map` (place extents, landmarks);
 //! besides `serde`/`ron`/`thiserror`. It never does I/O.
 
+pub mod blur;
 pub mod cap;
 pub mod cells;
 pub mod config;
@@ -20,9 +21,11 @@ pub mod estimate;
 pub mod observe;
 pub mod place;
 pub mod predict;
+pub mod start;
 pub mod trapezoid;
 mod workspace;
 
+pub use blur::Blur;
 pub use cap::Region;
 pub use cells::FuzzyGrid;
 pub use config::{Combine, Dilation, ElementShape, GridConfig, SensorModel};

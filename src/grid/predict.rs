@@ -8,14 +8,17 @@
 //! first is exact for the blur — the sup-min sum of two trapezoid elements is
 //! the trapezoid element with summed radii — and it keeps sub-cell motions
 //! from being lost: a radius below one cell is carried over, not dropped.
-//! A radius of a cell or more is applied and consumed even when it is too
-//! small for the octagon's 1-D passes to reach a neighbour (each pass gets
-//! ≈ 0.41 of it, the diagonal ones ≈ 0.29 of a diagonal step: below ≈ 2.4
-//! cells the dilation is the identity), so such a radius has no effect — at
-//! MRCLAM's step sizes the blur hardly ever acts. Carrying it over until
-//! the passes act was measured and made MRCLAM's ATE worse (a belief that
-//! spreads follows biased readings; `docs/compare.md`), so the behaviour is
-//! kept, and stated here.
+//! With [`Blur::Drop`](super::Blur) (the default) a radius of a cell or more
+//! is applied and consumed even when it is too small for the octagon's 1-D
+//! passes to reach a neighbour (each pass gets ≈ 0.41 of it, the diagonal ones
+//! ≈ 0.29 of a diagonal step: below ≈ 2.4 cells the dilation is the
+//! identity), so such a radius has no effect — at MRCLAM's step sizes the blur
+//! hardly ever acts. [`Blur::Carry`](super::Blur) keeps it pending until the
+//! passes move possibility one cell ([`crate::grid::blur`]). On MRCLAM
+//! carrying was measured and made the ATE worse, with the tuned sensor models
+//! and with ones derived from the readings' measured spread (a belief that
+//! spreads follows biased readings; `docs/compare.md`), so `Drop` stays the
+//! default.
 //!
 //! Applying the pending motion:
 //! 1. If the heading estimate is reliable (`R̄ ≥ directed_min_reliability`),
@@ -199,10 +202,9 @@ impl FuzzyGrid {
             flank[1] += f;
         }
         self.widen_headings(widen);
-        // Consumed from one cell on, whether or not the passes reach a
-        // neighbour (module docs).
-        let reach = |k: usize| core[k] + flank[k] >= self.cell;
-        if reach(0) || reach(1) {
+        // `GridConfig::blur` says whether a radius the passes may not act on
+        // is spent or carried (module docs).
+        if self.blur_due(core, flank) {
             self.dilate_xy(core, flank);
             core = [0.0; 2];
             flank = [0.0; 2];

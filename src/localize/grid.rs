@@ -73,6 +73,18 @@ impl GridLocalizer {
         })
     }
 
+    /// Starts from a known pose (tracking) instead of total ignorance
+    /// ([`FuzzyGrid::start_at`]).
+    ///
+    /// # Errors
+    /// As [`FuzzyGrid::start_at`]: a pose outside the grid or not finite.
+    pub fn start_at(&mut self, pose: Pose2) -> Result<(), GridError> {
+        self.grid
+            .start_at(pose.x as f32, pose.y as f32, pose.theta as f32)?;
+        self.moved = [0.0; 3];
+        Ok(())
+    }
+
     /// The grid as last updated (its planes, for pictures): the odometry since the last reading
     /// is still pending in it (see [`Localizer::estimate`]).
     pub fn grid(&self) -> &FuzzyGrid {

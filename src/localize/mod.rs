@@ -79,6 +79,7 @@
 pub mod frame;
 pub mod grid;
 pub mod perturb;
+pub mod robust;
 
 pub use frame::{interpolate_truth, LandmarkReading, MetricFrame, TruthRow};
 

@@ -442,3 +442,44 @@ fn compare_gives_the_first_fix_on_the_logs_clock_and_writes_the_kidnapped_run() 
         .fold(0.0, f64::max);
     assert!(most > 0.5, "the kidnap is not in the TUM file ({most} m)");
 }
+
+#[test]
+fn start_at_truth_fixes_at_the_first_frame_and_refuses_rmcl() {
+    // The truth of the first frame is (1, 1), where the robot stands: both methods start there
+    // (fix at 0 s), and stay (they see three landmarks read exactly).
+    let (_d, map, stream) = setup("start", 5);
+    let out = lplace()
+        .arg("compare")
+        .arg("--map")
+        .arg(&map)
+        .arg(&stream)
+        .args([
+            "--methods",
+            "fpg,pf:500",
+            "--start-at-truth",
+            "--format",
+            "json",
+        ])
+        .assert()
+        .code(0)
+        .get_output()
+        .stdout
+        .clone();
+    let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    for r in v["methods"].as_array().unwrap() {
+        assert_eq!(r["first_fix"].as_f64(), Some(0.0), "{r}");
+        // Within a cell and a half of the truth (0.1 m cells: the grid's estimate is a centre of
+        // gravity of cells), every frame.
+        assert!(r["ate"]["max"].as_f64().unwrap() < 0.15, "{r}");
+    }
+    // R-MCL has no pose to start from: a flag error, exit 2.
+    lplace()
+        .arg("compare")
+        .arg("--map")
+        .arg(&map)
+        .arg(&stream)
+        .args(["--methods", "fpg,rmcl", "--start-at-truth"])
+        .assert()
+        .code(2)
+        .stderr(predicates::str::contains("rmcl cannot start from a pose"));
+}

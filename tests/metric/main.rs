@@ -14,4 +14,5 @@ mod grid_cases;
 mod grid_mrclam;
 mod grid_place;
 mod grid_props;
+mod grid_robust;
 mod localize_perturb;

@@ -1,0 +1,80 @@
+//! The grid's ATE on MRCLAM robot 1 (the tuning robot) under changes that should not matter:
+//! every landmark moved by up to ±1 mm (ten seeded draws), and each configuration value
+//! changed by ±1 %, one at a time (`localize::robust`). Skipped when the data set is absent.
+//! `cargo run --release --example mrclam_robustness` gives the same figures for robots 1–5.
+
+use crate::support::mrclam_dir;
+use lplace::grid::place::survey_landmarks;
+use lplace::grid::{GridConfig, LandmarkTable};
+use lplace::localize::grid::run;
+use lplace::localize::robust::{jitter_landmarks, nudged_configs};
+use lplace::localize::{MetricFrame, RunOptions};
+
+fn ate(table: &LandmarkTable, cfg: &GridConfig, frames: &[MetricFrame]) -> f64 {
+    let rep = run(table, cfg, frames.iter().cloned(), &RunOptions::default()).unwrap();
+    rep.ate.expect("a fix and truth").rmse
+}
+
+/// Robot 1's largest relative ATE change over the ten landmark draws and over the ±1 %
+/// configuration changes (with the value that caused it), or `None` without the data.
+fn robot1_spreads() -> Option<(f64, f64, String)> {
+    let dir = mrclam_dir()?;
+    let data = lplace::io::mrclam_dir::load(&dir, &[1]).unwrap();
+    let table = survey_landmarks(data.survey().unwrap()).unwrap();
+    let frames = data.robots.into_iter().next().unwrap().frames;
+    let cfg = GridConfig::from_ron(include_str!("../../config/grid-mrclam.ron")).unwrap();
+    let base = ate(&table, &cfg, &frames);
+    let change = |a: f64| (a - base).abs() / base;
+    let landmarks = (1..=10)
+        .map(|seed| {
+            change(ate(
+                &jitter_landmarks(&table, 0.001, seed).unwrap(),
+                &cfg,
+                &frames,
+            ))
+        })
+        .fold(0.0, f64::max);
+    let mut config = (0.0, String::new());
+    for factor in [1.01, 0.99] {
+        let nudged = nudged_configs(&cfg, factor);
+        // Every tuned number of the file is among them (a silently empty list would pass).
+        assert!(nudged.len() >= 20, "{}", nudged.len());
+        for (name, c) in nudged {
+            let d = change(ate(&table, &c, &frames));
+            if d > config.0 {
+                config = (d, format!("{name} ×{factor}"));
+            }
+        }
+    }
+    eprintln!(
+        "robot 1: ATE {base:.3} m; landmarks ±1 mm: up to {:.1} %; config ±1 %: up to {:.1} % ({})",
+        100.0 * landmarks,
+        100.0 * config.0,
+        config.1
+    );
+    Some((landmarks, config.0, config.1))
+}
+
+/// Locks today's spread, measured 13.8 % (landmarks) and 8.3 % (configuration) with
+/// config/grid-mrclam.ron; the bound is the largest spread measured over robots 1–5 before
+/// (18–20 %, docs/compare.md), so the test fails if the grid becomes more fragile than that.
+#[test]
+fn mrclam_robot1_ate_is_no_more_fragile_than_measured() {
+    let Some((landmarks, config, worst)) = robot1_spreads() else {
+        return;
+    };
+    assert!(landmarks <= 0.20, "{landmarks}");
+    assert!(config <= 0.20, "{config} ({worst})");
+}
+
+/// Issue 20's robustness goal: ≤ 3 % under both. Not met (13.8 % and 8.3 % on robot 1);
+/// run with `--ignored` to measure.
+#[test]
+#[ignore = "issue 20's 3 % goal is not met yet (robot 1: 13.8 % landmarks, 8.3 % configuration)"]
+fn mrclam_robot1_ate_moves_at_most_3_percent() {
+    let Some((landmarks, config, worst)) = robot1_spreads() else {
+        return;
+    };
+    assert!(landmarks <= 0.03, "{landmarks}");
+    assert!(config <= 0.03, "{config} ({worst})");
+}
