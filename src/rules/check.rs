@@ -107,26 +107,7 @@ pub const MAX_GROUND_INSTANCES: u128 = 1_000_000;
 /// Every returned diagnostic points into the rule file. Call [`check_map_against_rules`]
 /// afterwards for the problems of the map that only the rule file reveals.
 pub fn check_rules(file: &RuleFile, map: &Map) -> Result<RuleSet, Vec<Diagnostic>> {
-    let mut c = Checker {
-        map,
-        diags: Vec::new(),
-        set: RuleSet {
-            logic: LogicConfig::default(),
-            domains: BTreeMap::new(),
-            similarities: BTreeMap::new(),
-            percepts: BTreeMap::new(),
-            predicates: BTreeMap::new(),
-            rules: Vec::new(),
-            regions: Vec::new(),
-            groups: Vec::new(),
-            params: BTreeSet::new(),
-        },
-        domain_spans: BTreeMap::new(),
-        grounded: 0,
-    };
-    c.builtin_domains();
-    c.regions(file);
-    c.declarations(file);
+    let mut c = Checker::declared(file, map);
     for item in &file.items {
         match item {
             RuleItem::Rule(r) => c.rule(r),
@@ -137,12 +118,52 @@ pub fn check_rules(file: &RuleFile, map: &Map) -> Result<RuleSet, Vec<Diagnostic
     c.never_fires();
     // The map's directions are checked separately (`check_map_against_rules`): those
     // diagnostics point into the map file, not this one.
-    let Checker { mut diags, set, .. } = c;
-    if diags.iter().any(Diagnostic::is_error) {
-        diags.sort_by_key(|d| (d.span.start, d.span.end));
-        Err(diags)
-    } else {
-        Ok(set)
+    c.finish()
+}
+
+/// The declarations of `file` over `map` — domains, regions, similarities, percepts and
+/// predicates, with no rule: the [`RuleSet`] a stream's percept table is enumerated from. A map
+/// whose places do not yet carry the parameters the rules compare with (before a survey) passes
+/// here, where [`check_rules`] reports each such parameter.
+pub fn check_declarations(file: &RuleFile, map: &Map) -> Result<RuleSet, Vec<Diagnostic>> {
+    Checker::declared(file, map).finish()
+}
+
+impl<'m> Checker<'m> {
+    /// A checker over `map` that has read the declarations of `file`.
+    fn declared(file: &RuleFile, map: &'m Map) -> Checker<'m> {
+        let mut c = Checker {
+            map,
+            diags: Vec::new(),
+            set: RuleSet {
+                logic: LogicConfig::default(),
+                domains: BTreeMap::new(),
+                similarities: BTreeMap::new(),
+                percepts: BTreeMap::new(),
+                predicates: BTreeMap::new(),
+                rules: Vec::new(),
+                regions: Vec::new(),
+                groups: Vec::new(),
+                params: BTreeSet::new(),
+            },
+            domain_spans: BTreeMap::new(),
+            grounded: 0,
+        };
+        c.builtin_domains();
+        c.regions(file);
+        c.declarations(file);
+        c
+    }
+
+    /// The rule set, or every problem found sorted by position when one is an error.
+    fn finish(self) -> Result<RuleSet, Vec<Diagnostic>> {
+        let Checker { mut diags, set, .. } = self;
+        if diags.iter().any(Diagnostic::is_error) {
+            diags.sort_by_key(|d| (d.span.start, d.span.end));
+            Err(diags)
+        } else {
+            Ok(set)
+        }
     }
 }
 
