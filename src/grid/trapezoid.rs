@@ -3,7 +3,10 @@
 //! paper's intersection rule for angle sets (Fig. 4).
 //!
 //! This module is pure arithmetic: no grid, no allocation. Everything else in
-//! [`crate::grid`] measures distances and angles with these sets.
+//! [`crate::grid`] measures distances and angles with these sets. What it adds to the crate's
+//! one trapezoid ([`crate::core::trapezoid::Trapezoid`], which gives the shape and the
+//! membership: [`Trapezoid::profile`]) is a centre of its own, the circle of headings and the
+//! intersection of angle sets.
 //!
 //! # Conventions
 //!
@@ -13,7 +16,8 @@
 //!   the flank width instead of a gradient keeps the rectangle case finite.
 //! * The bias `b` is a uniform floor: `μ(x) = max(b, h · f(x))`
 //!   ([`BiasRule::Floor`], [`Trapezoid::BIAS_RULE`]; the rule engine's
-//!   similarities read it the other way, see [`crate::core::trapezoid`]). It
+//!   similarities, [`crate::logic::Similarity`], read it the other way, see
+//!   [`crate::core::trapezoid`]). It
 //!   is the possibility that the reading is an outlier ("the actual value is
 //!   somewhere else").
 //! * Angles are radians; every angular distance is taken the short way round,
@@ -35,7 +39,7 @@
 //! ```
 
 use crate::core::angle::wrap_pi_f32 as wrap_pi;
-use crate::core::trapezoid::BiasRule;
+use crate::core::trapezoid::{BiasRule, Trapezoid as CoreTrapezoid};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
 
@@ -91,32 +95,29 @@ impl Trapezoid {
     /// How the bias enters: `μ = max(b, h·f)`.
     pub const BIAS_RULE: BiasRule = BiasRule::Floor;
 
-    /// The trapezoid part's shape `f` (1 on the core, falling to 0 over the
-    /// flank, 0 outside the support) at a distance `u ≥ 0` from the centre.
-    #[inline]
-    fn shape(&self, u: f32) -> f32 {
-        let half = 0.5 * self.core;
-        if u <= half {
-            1.0
-        } else if self.slope > 0.0 && u < half + self.slope {
-            1.0 - (u - half) / self.slope
-        } else {
-            0.0 // also reached by NaN `u`
+    /// The set's trapezoid around its centre: paper 000's shape and membership, evaluated by
+    /// the crate's one [`CoreTrapezoid`].
+    #[inline(always)]
+    pub fn profile(&self) -> CoreTrapezoid<f32> {
+        CoreTrapezoid {
+            core: self.core,
+            slope: self.slope,
+            height: self.height,
+            bias: self.bias,
+            rule: Self::BIAS_RULE,
         }
     }
 
     /// Membership of a value on the real line (ranges). NaN gives the bias.
     #[inline]
     pub fn linear(&self, x: f32) -> f32 {
-        let f = self.shape((x - self.center).abs());
-        Self::BIAS_RULE.apply_f32(f, self.height, self.bias)
+        self.profile().degree_at((x - self.center).abs())
     }
 
     /// Membership of an angle, measured the short way round the circle.
     #[inline]
     pub fn angular(&self, phi: f32) -> f32 {
-        let f = self.shape(wrap_pi(phi - self.center).abs());
-        Self::BIAS_RULE.apply_f32(f, self.height, self.bias)
+        self.profile().degree_at(wrap_pi(phi - self.center).abs())
     }
 
     /// True when the set covers every heading at full height.

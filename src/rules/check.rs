@@ -5,7 +5,7 @@
 //! well formed, and every rule can fire. All problems are reported at once.
 //!
 //! Depends on `syntax` (the AST in, diagnostics out), `map` (names, walls, parameters) and
-//! `logic` (the `LogicConfig` and `Trapezoid` it produces).
+//! `logic` (the `LogicConfig` and `Similarity` it produces).
 //!
 //! # Decisions
 //!
@@ -20,7 +20,7 @@
 //!   `at_place`/`in_room`) that no firing rule concludes — is an error: it is dead code that
 //!   usually hides a misspelt head.
 
-use crate::logic::{Fusion, Implication, LogicConfig, Normalisation, TNorm, Trapezoid};
+use crate::logic::{Fusion, Implication, LogicConfig, Normalisation, Similarity, TNorm};
 use crate::map::Map;
 use crate::syntax::ast::*;
 use crate::syntax::diagnostic::{Diagnostic, DiagnosticKind, KeySuffix, NeverFiresReason};
@@ -68,7 +68,7 @@ pub struct RuleSet {
     /// `Room` and `Landmark` filled from the map.
     pub domains: BTreeMap<String, Vec<String>>,
     /// Similarities by name.
-    pub similarities: BTreeMap<String, Trapezoid>,
+    pub similarities: BTreeMap<String, Similarity>,
     /// Percepts by name.
     pub percepts: BTreeMap<String, Signature>,
     /// Derived predicates by name.
@@ -591,7 +591,7 @@ impl Checker<'_> {
         self.set.domains.insert(name.clone(), values);
     }
 
-    fn similarity(&mut self, s: &SimilarityDecl) -> Option<Trapezoid> {
+    fn similarity(&mut self, s: &SimilarityDecl) -> Option<Similarity> {
         if s.shape.node != "trapezoid" {
             self.err(
                 DiagnosticKind::UnknownShape {
@@ -601,7 +601,7 @@ impl Checker<'_> {
             );
             return None;
         }
-        let mut t = Trapezoid::default();
+        let mut t = Similarity::default();
         let mut seen: BTreeMap<&str, Span> = BTreeMap::new();
         let mut ok = true;
         let mut height_span = None;
@@ -632,14 +632,14 @@ impl Checker<'_> {
                     self.err(bad("must be in [0, 1]"), v.span);
                     ok = false;
                 }
-                "core" => t.core = x,
-                "slope" => t.slope = x,
+                "core" => t.shape.core = x,
+                "slope" => t.shape.slope = x,
                 "period" => t.period = Some(x),
                 "height" => {
-                    t.height = x;
+                    t.shape.height = x;
                     height_span = Some(v.span);
                 }
-                "bias" => t.bias = x,
+                "bias" => t.shape.bias = x,
                 _ => {
                     self.err(
                         DiagnosticKind::UnknownField {
@@ -651,7 +651,7 @@ impl Checker<'_> {
                 }
             }
         }
-        if ok && t.bias > t.height {
+        if ok && t.shape.bias > t.shape.height {
             let span = s
                 .fields
                 .iter()
@@ -662,7 +662,7 @@ impl Checker<'_> {
             self.err(
                 DiagnosticKind::BadFieldValue {
                     field: "bias".into(),
-                    value: t.bias,
+                    value: t.shape.bias,
                     requirement: "must not exceed the height",
                 },
                 span,
