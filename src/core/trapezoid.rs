@@ -130,14 +130,14 @@ impl<F: Real> Trapezoid<F> {
         let half = F::HALF * self.core;
         if d <= half {
             F::ONE
-        } else if !(self.slope > F::ZERO) {
-            F::ZERO
-        } else {
+        } else if self.slope > F::ZERO {
             match self.rule {
                 BiasRule::Floor if d < half + self.slope => F::ONE - (d - half) / self.slope,
                 BiasRule::Floor => F::ZERO,
                 BiasRule::Lifted => (F::ONE - (d - half) / self.slope).max(F::ZERO),
             }
+        } else {
+            F::ZERO // also a NaN slope, as a crisp edge
         }
     }
 
