@@ -37,8 +37,8 @@ pub struct SurveyArgs {
     /// The rules (.lpl): which percepts feed which place parameters.
     #[arg(long, value_name = "RULES")]
     pub rules: PathBuf,
-    /// Percept stream of the survey run (JSON lines, `lplace extract`), with `truth.place`
-    /// unless --labels is given.
+    /// Percept stream of the survey run (JSON Lines as `lplace extract` writes them, or CSV by
+    /// the .csv extension; `-` reads stdin), with `truth.place` unless --labels is given.
     #[arg(value_name = "STREAM")]
     pub stream: PathBuf,
     /// Ground truth as a CSV `t,place` (header optional): each frame takes the label nearest

@@ -248,4 +248,20 @@ fn bad_records_are_rejected_by_line_as_eval_rejects_them() {
         .filter(|l| l.starts_with(&*name.to_string()))
         .collect();
     assert_eq!(ev_reported, reported);
+    // `-` reads stdin, as for `eval`: the same map as from the file.
+    let text = std::fs::read(&clean).expect("written above");
+    let piped = lplace()
+        .args([
+            "survey",
+            "--map",
+            "maps/office.map",
+            "--rules",
+            "rules/office.lpl",
+            "-",
+        ])
+        .write_stdin(text)
+        .output()
+        .expect("runs");
+    assert_eq!(piped.status.code(), Some(0));
+    assert_eq!(String::from_utf8_lossy(&piped.stdout), clean_out);
 }
