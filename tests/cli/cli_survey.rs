@@ -32,15 +32,21 @@ fn write(dir: &Path, name: &str, lines: &[String]) -> PathBuf {
     p
 }
 
+/// `lplace survey` over the bundled office map and rules, the stream still to be named.
+fn survey_office() -> assert_cmd::Command {
+    let mut c = lplace();
+    c.args([
+        "survey",
+        "--map",
+        "maps/office.map",
+        "--rules",
+        "rules/office.lpl",
+    ]);
+    c
+}
+
 fn survey(stream: &Path, extra: &[&str]) -> (Option<i32>, String, String) {
-    let out = lplace()
-        .args([
-            "survey",
-            "--map",
-            "maps/office.map",
-            "--rules",
-            "rules/office.lpl",
-        ])
+    let out = survey_office()
         .arg(stream)
         .args(extra)
         .output()
@@ -250,15 +256,8 @@ fn bad_records_are_rejected_by_line_as_eval_rejects_them() {
     assert_eq!(ev_reported, reported);
     // `-` reads stdin, as for `eval`: the same map as from the file.
     let text = std::fs::read(&clean).expect("written above");
-    let piped = lplace()
-        .args([
-            "survey",
-            "--map",
-            "maps/office.map",
-            "--rules",
-            "rules/office.lpl",
-            "-",
-        ])
+    let piped = survey_office()
+        .arg("-")
         .write_stdin(text)
         .output()
         .expect("runs");
