@@ -273,7 +273,7 @@ class SurveyResult(NamedTuple):
     #: (``at_place``, ``decided``, ``right``, ``confidently_wrong``, their rates, and ``text``,
     #: the line ``lplace survey`` prints); ``None`` with ``fit="all"``.
     held_out: Optional[Dict[str, Any]]
-    #: One dict per rejected stream line: ``line``, ``column`` (``None``), ``kind``, ``message``.
+    #: One dict per rejected stream line: ``line``, ``column`` (or ``None``), ``kind``, ``message``.
     rejected: List[Dict[str, Any]]
 
 

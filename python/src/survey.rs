@@ -6,9 +6,9 @@
 use crate::errors::check_error;
 use lplace::engine::tracker::TrackerConfig;
 use lplace::engine::{FileRole, LoadError, OFFICE_MAP, OFFICE_RULES};
+use lplace::io::stream::StreamFormat;
 use lplace::survey::{
-    parse_labels, read_records, LabelRow, Protocol, Records, Survey, SurveyConfig, SurveyError,
-    Truth,
+    parse_labels, LabelRow, Protocol, Records, Survey, SurveyConfig, SurveyError, Truth,
 };
 use lplace::syntax::diagnostic::SourceFile;
 use pyo3::exceptions::PyValueError;
@@ -70,14 +70,18 @@ fn label_rows(
     }
 }
 
-/// The records of the stream at `path` or in `data`.
-fn records(path: Option<PathBuf>, data: Option<Vec<u8>>) -> PyResult<Records> {
+/// The records of the stream at `path` (CSV by its extension) or in `data` (JSON Lines), read
+/// by the survey's stream reader, as `lplace survey` reads them.
+fn records(survey: &Survey, path: Option<PathBuf>, data: Option<Vec<u8>>) -> PyResult<Records> {
     match (path, data) {
         (Some(p), None) => {
             let f = std::fs::File::open(&p)?;
-            Ok(read_records(std::io::BufReader::new(f))?)
+            let format = StreamFormat::from_path(&p);
+            Ok(survey.read_records(std::io::BufReader::new(f), format)?)
         }
-        (None, Some(bytes)) => Ok(read_records(std::io::Cursor::new(bytes))?),
+        (None, Some(bytes)) => {
+            Ok(survey.read_records(std::io::Cursor::new(bytes), StreamFormat::JsonLines)?)
+        }
         _ => Err(PyValueError::new_err("give exactly one of path and data")),
     }
 }
@@ -122,7 +126,7 @@ pub(crate) fn survey_run<'py>(
         ..SurveyConfig::default()
     };
     let survey = Survey::new(map, rules, cfg).map_err(|e| survey_error(py, &map_name, e))?;
-    let records = records(path, data)?;
+    let records = records(&survey, path, data)?;
     let labels = label_rows(labels_path, labels_rows)?;
     let protocol = if first_visits {
         Protocol::FirstVisits
@@ -166,12 +170,19 @@ pub(crate) fn survey_run<'py>(
     };
     d.set_item("held_out", held)?;
     let rej = &records.rejected;
-    d.set_item("rejected_line", rej.iter().map(|e| e.0).collect::<Vec<_>>())?;
+    d.set_item(
+        "rejected_line",
+        rej.iter().map(|e| e.line).collect::<Vec<_>>(),
+    )?;
+    d.set_item(
+        "rejected_column",
+        rej.iter().map(|e| e.reason.column()).collect::<Vec<_>>(),
+    )?;
     d.set_item(
         "rejected_kind",
-        rej.iter().map(|e| e.1.kind()).collect::<Vec<_>>(),
+        rej.iter().map(|e| e.reason.kind()).collect::<Vec<_>>(),
     )?;
-    let messages: Vec<String> = rej.iter().map(|e| e.1.to_string()).collect();
+    let messages: Vec<String> = rej.iter().map(|e| e.reason.message()).collect();
     d.set_item("rejected_message", messages)?;
     Ok(d)
 }

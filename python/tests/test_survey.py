@@ -191,16 +191,22 @@ def test_hostile_stream_is_rejected_line_by_line_like_the_cli(lplace_bin, sim_ru
     stdout, stderr = cli_survey(lplace_bin, path, ok=(3,))
     res = lplace.survey(path, MAP, RULES)
     assert res.map_text.encode() == stdout
-    # Every rejection the CLI printed, with its line, kind and message.
+    # Every rejection the CLI printed, with its line, column, kind and message: the survey
+    # reads with the stream reader of `evaluate`, so the position is composed the same way.
     printed = [ln for ln in stderr.splitlines() if ln.startswith(str(path))]
-    assert printed == [f"{path}:{r['line']}: {r['message']}" for r in res.rejected]
-    assert all(r["column"] is None for r in res.rejected)
-    assert len(res.rejected) >= 6 and {r["kind"] for r in res.rejected} <= {"malformed", "version"}
+    assert printed == [
+        f"{path}:{r['line']}"
+        + ("" if r["column"] is None else f":{r['column']}")
+        + f": {r['message']}"
+        for r in res.rejected
+    ]
+    assert any(r["column"] is not None for r in res.rejected)
+    kinds = {r["kind"] for r in res.rejected}
+    assert len(res.rejected) >= 6 and kinds <= {"malformed", "version", "degree_out_of_range"}
     # A place the map does not declare cannot be written: an error, never a partial map.
-    stray = '{"t": 0, "percepts": [{"name": "beacon_angle", "value": 1, "degree": 1}],' \
-        ' "truth": {"place": "Nowhere"}}'
+    unlabelled = '{"t": 0, "percepts": [{"name": "beacon_angle", "value": 1, "degree": 1}]}'
     with pytest.raises(ValueError, match="Nowhere"):
-        lplace.survey([stray], MAP, RULES)
-    # Bytes that are not UTF-8 are an I/O-level error, not a crash.
-    with pytest.raises(OSError):
-        lplace.survey(b"\xff\xfe{}\n", MAP, RULES)
+        lplace.survey([unlabelled], MAP, RULES, labels=[(0.0, "Nowhere")])
+    # Bytes that are not UTF-8 are a rejected record, as in `evaluate`, not a crash.
+    res = lplace.survey(b"\xff\xfe{}\n", MAP, RULES)
+    assert [r["line"] for r in res.rejected] == [1]

@@ -75,8 +75,10 @@ pub enum Command {
     ///
     /// Prints per place the scans used and the spread of its readings on stderr, and warns on
     /// places with few scans. With --fit first-visits, fits on each place's first visit and
-    /// prints how the written map does on the later visits. Exit 0, 3 when some stream lines
-    /// were malformed, 2 for bad map, rules or labels, 1 when a file cannot be read or written.
+    /// prints how the written map does on the later visits. The stream is read as `eval` reads
+    /// it. Exit 0, 3 when some records were rejected (each reported on stderr as
+    /// STREAM:LINE: reason), 2 for bad map, rules or labels, 1 when a file cannot be read or
+    /// written.
     Survey(super::survey::SurveyArgs),
     /// Evaluate percept streams as `eval` does and write one self-contained HTML page about
     /// them: summary, confusion matrix, place Π/N over time, trajectory, grid beliefs.

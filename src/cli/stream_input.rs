@@ -1,5 +1,5 @@
 //! Opening a percept stream named on the command line, shared by every command that reads one
-//! (`eval`, `grid`, `compare`), so that they open, name and report streams alike: `-` is stdin
+//! (`eval`, `grid`, `compare`, `survey`), so that they open, name and report streams alike: `-` is stdin
 //! (reported as `<stdin>`), a directory is refused, and each rejected record is reported on
 //! stderr as `STREAM:LINE: reason`.
 

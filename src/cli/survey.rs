@@ -2,18 +2,21 @@
 //! [-o OUT]`: fit each place's expected percept values from a run with ground truth and write
 //! them into the map, touching nothing else. The survey itself is library code
 //! ([`crate::survey::Survey`], shared with the Python binding); this file parses the arguments,
-//! reads the files and prints: per place the scans used and the spread on stderr, a warning on
+//! reads the files (the stream opened as every command opens one, `cli::stream_input`, and read
+//! by the survey's [`crate::io::stream::StreamReader`]: a rejected record is reported as
+//! `STREAM:LINE: reason` and makes the exit code 3, as in `eval`) and prints: per place the scans
+//! used and the spread on stderr, a warning on
 //! places with too few scans, and with `--fit first-visits` how the map so written does on the
 //! later visits (held-out frames).
 
-use std::io::{BufReader, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
+use super::{read_source, render, stream_input, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::engine::tracker::TrackerConfig;
+use crate::io::stream::StreamFormat;
 use crate::survey::{
-    parse_labels, read_records, LabelRow, Protocol, Records, Survey, SurveyConfig, SurveyError,
-    Truth,
+    parse_labels, LabelRow, Protocol, Records, Survey, SurveyConfig, SurveyError, Truth,
 };
 
 /// Which frames fit the map.
@@ -34,8 +37,8 @@ pub struct SurveyArgs {
     /// The rules (.lpl): which percepts feed which place parameters.
     #[arg(long, value_name = "RULES")]
     pub rules: PathBuf,
-    /// Percept stream of the survey run (JSON lines, `lplace extract`), with `truth.place`
-    /// unless --labels is given.
+    /// Percept stream of the survey run (JSON Lines as `lplace extract` writes them, or CSV by
+    /// the .csv extension; `-` reads stdin), with `truth.place` unless --labels is given.
     #[arg(value_name = "STREAM")]
     pub stream: PathBuf,
     /// Ground truth as a CSV `t,place` (header optional): each frame takes the label nearest
@@ -88,7 +91,7 @@ pub fn run(args: &SurveyArgs, out: &mut impl Write) -> Result<u8, CliError> {
         ..SurveyConfig::default()
     };
     let survey = Survey::new(map_src, rules_src, cfg).map_err(|e| fail(&map_name, e))?;
-    let records = read_frames(&args.stream)?;
+    let records = read_frames(&survey, &args.stream)?;
     let labels = match &args.labels {
         Some(path) => Some(read_labels(path)?),
         None => None,
@@ -146,16 +149,18 @@ fn fail(map_name: &str, e: SurveyError) -> CliError {
     CliError::Diagnostics { count: 1 }
 }
 
-/// Every parseable record of the stream; malformed lines are reported and counted.
-fn read_frames(path: &Path) -> Result<Records, CliError> {
-    let read_error = |source| CliError::Read {
-        path: path.display().to_string(),
-        source,
-    };
-    let file = std::fs::File::open(path).map_err(read_error)?;
-    let records = read_records(BufReader::new(file)).map_err(read_error)?;
-    for (line, e) in &records.rejected {
-        eprintln!("{}:{line}: {e}", path.display());
+/// Every accepted record of the stream at `path` (`-` for stdin; CSV by its extension), read as
+/// `lplace eval` reads it; each rejected record is reported as `STREAM:LINE: reason`.
+fn read_frames(survey: &Survey, path: &Path) -> Result<Records, CliError> {
+    let stream = stream_input::open(path)?;
+    let records = survey
+        .read_records(stream.input, StreamFormat::from_path(path))
+        .map_err(|source| CliError::Read {
+            path: stream.name.clone(),
+            source,
+        })?;
+    for e in &records.rejected {
+        eprintln!("{}", stream_input::rejection(&stream.name, e));
     }
     Ok(records)
 }

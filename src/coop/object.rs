@@ -210,7 +210,7 @@ struct RingCell {
 /// The cells around `q` whose distance membership `R⁺(d)` exceeds `floor`.
 /// Offsets reach at most `max_k` cells: farther ones fall outside any grid of that size.
 fn ring(range: &Trapezoid, cell: f32, floor: f32, max_k: usize) -> Vec<RingCell> {
-    let outer = range.center + 0.5 * range.core + range.slope;
+    let outer = range.center + 0.5 * range.shape.core + range.shape.slope;
     let k = (outer / cell).ceil().min(max_k as f32) as isize;
     let mut out = Vec::new();
     for dr in -k..=k {
@@ -269,7 +269,7 @@ pub fn object_grid(
     let s = geometry.cell;
     let r = cfg.range.around(reading.range);
     // R⁺: widened by one cell (± s/2), no pointwise bias (it is in the floor).
-    let r_plus = Trapezoid::new(r.center, r.core + s, r.slope, 1.0, 0.0);
+    let r_plus = Trapezoid::new(r.center, r.shape.core + s, r.shape.slope, 1.0, 0.0);
     let stencil = ring(&r_plus, s, floor, geometry.nx.max(geometry.ny));
     let b = cfg.bearing.around(reading.bearing);
     let (nx, ny) = (geometry.nx as isize, geometry.ny as isize);
@@ -278,12 +278,12 @@ pub fn object_grid(
             let Some(hs) = g.heading_set(col, row) else {
                 continue;
             };
-            let h = hs.height;
+            let h = hs.shape.height;
             if h <= floor {
                 continue;
             }
-            let hb = h * hs.bias;
-            let a = Trapezoid::new(hs.center, hs.core, hs.slope, h, 0.0);
+            let hb = h * hs.shape.bias;
+            let a = Trapezoid::new(hs.center, hs.shape.core, hs.shape.slope, h, 0.0);
             for rc in &stencil {
                 let (pc, pr) = (col as isize + rc.dc, row as isize + rc.dr);
                 if pc < 0 || pr < 0 || pc >= nx || pr >= ny {
@@ -297,8 +297,8 @@ pub fn object_grid(
                 // Headings θ for which p lies at bearing φ: centred at ψ − φ.
                 let bq = Trapezoid::new(
                     rc.psi - b.center,
-                    b.core + 2.0 * rc.half_angle,
-                    b.slope,
+                    b.shape.core + 2.0 * rc.half_angle,
+                    b.shape.slope,
                     1.0,
                     0.0,
                 );

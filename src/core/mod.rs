@@ -1,7 +1,7 @@
 //! The project's vocabulary: the few types and conversions every layer shares — a planar pose,
 //! one odometry increment in SI units, angle wrapping, the compass directions, the seeded random
 //! generator, the one reader of RON configuration files, the edit distance behind "did you
-//! mean", and paper 000's trapezoid shape with its two bias readings.
+//! mean", and paper 000's one trapezoid (f32 or f64) with its two named bias readings.
 //!
 //! Everything above uses these and nothing else for the same idea; unit conversions (degrees in
 //! streams, velocities in MRCLAM files, ODOM poses in CARMEN logs) happen at the readers and

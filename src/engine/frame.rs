@@ -11,7 +11,7 @@
 //! - a percept not set in the frame is **missing**: degree 0 (no support), value NaN;
 //! - a NaN degree counts as missing (0); a degree outside `[0, 1]` is clamped into it;
 //! - a NaN or infinite value makes every similarity against it equal to that similarity's bias
-//!   (the possibility that the reading is an outlier), see `logic::Trapezoid::degree`.
+//!   (the possibility that the reading is an outlier), see `logic::Similarity::degree`.
 //!
 //! Both kinds of repair are counted per step in `Engine::sanitised`, so that a caller can report
 //! them; nothing is dropped silently.

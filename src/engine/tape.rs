@@ -20,7 +20,7 @@
 //! | `Detach(a, w)`  | `T(a, w)` (residuum) or `min(a, w)` (min-MP)       | `(φ -> head, w)`, `(φ, w)` |
 
 use super::frame::{Frame, PerceptSlot, PerceptTable};
-use crate::logic::{clamp_degree, LogicConfig, TNorm, Trapezoid};
+use crate::logic::{clamp_degree, LogicConfig, Similarity, TNorm};
 use std::fmt::Write as _;
 
 /// Index of a register (= of the instruction that writes it).
@@ -90,7 +90,7 @@ pub struct Tape {
     /// Instructions in evaluation order.
     pub ops: Vec<Op>,
     /// Similarity shapes referenced by `Op::Match`.
-    pub similarities: Vec<Trapezoid>,
+    pub similarities: Vec<Similarity>,
     /// Their names, for printing.
     pub similarity_names: Vec<String>,
     /// The file's operators.

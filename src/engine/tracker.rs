@@ -78,7 +78,7 @@ use super::grid_tracker::{GridTrackConfig, GridTracker};
 use crate::core::Odometry;
 use crate::logic::{
     clamp_degree, decide, Decision, DecisionParams, Disoriented, Normalisation, PlaceDistribution,
-    TNorm, Trapezoid,
+    Similarity, TNorm,
 };
 use crate::map::dijkstra::BoundedDijkstra;
 use crate::map::{Extent, Map};
@@ -429,7 +429,7 @@ fn extent_radius(e: Extent) -> f64 {
 /// `R_ij = 0`, as pairs with no path always had.
 ///
 /// One branch-free expression ([`GateRow::fill`]) gives exactly
-/// [`Trapezoid::degree`](crate::logic::Trapezoid::degree)`(s, L'_ij)` of the shape `core =
+/// [`Similarity::degree`](crate::logic::Similarity::degree)`(s, L'_ij)` of the shape `core =
 /// 2(tolerance + tolerance_rel·L)`, `slope = slope + slope_rel·L`, height 1, bias 0: `half =
 /// tolerance + tolerance_rel·L` is `0.5 · core` exactly (scaling by 2 and ½ is exact), and a
 /// slope that is not positive (only from an unvalidated config) is taken as `+0`, so that beyond
@@ -584,7 +584,7 @@ impl Gates {
         i: usize,
         range: std::ops::Range<usize>,
         d: [f64; 2],
-        shape: &Trapezoid,
+        shape: &Similarity,
         out: &mut [f64],
     ) {
         let Some(&(a, ra)) = self.extents.get(i) else {
@@ -606,14 +606,14 @@ impl Gates {
 
 /// The displacement gate `s` metres after its anchor: full match within `tolerance_d +
 /// tolerance_d_rel·s` of the target extent, falling to 0 over `slope_d + slope_d_rel·s`.
-pub fn displacement_gate(cfg: &TrackerConfig, s: f64) -> Trapezoid {
-    Trapezoid {
-        core: 2.0 * (cfg.tolerance_d + cfg.tolerance_d_rel * s),
-        slope: cfg.slope_d + cfg.slope_d_rel * s,
-        height: 1.0,
-        bias: 0.0,
-        period: None,
-    }
+pub fn displacement_gate(cfg: &TrackerConfig, s: f64) -> Similarity {
+    Similarity::new(
+        2.0 * (cfg.tolerance_d + cfg.tolerance_d_rel * s),
+        cfg.slope_d + cfg.slope_d_rel * s,
+        1.0,
+        0.0,
+        None,
+    )
 }
 
 impl GateRow<'_> {

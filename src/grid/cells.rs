@@ -197,9 +197,9 @@ impl FuzzyGrid {
         if col < self.nx && row < self.ny {
             let i = row * self.nx + col;
             self.theta[i] = t.center;
-            self.delta[i] = t.core;
-            self.alpha[i] = t.slope;
-            self.bias[i] = t.bias;
+            self.delta[i] = t.shape.core;
+            self.alpha[i] = t.shape.slope;
+            self.bias[i] = t.shape.bias;
         }
     }
 

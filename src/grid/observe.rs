@@ -251,22 +251,22 @@ struct Ring {
 /// that loops calling it vectorise, sqrt included.
 #[inline(always)]
 fn range_member(t: &Trapezoid, dist: f32) -> f32 {
-    let half = 0.5 * t.core;
-    let end = half + t.slope;
-    let has_flank = t.slope > 0.0;
-    let slope = if has_flank { t.slope } else { 1.0 };
+    let half = 0.5 * t.shape.core;
+    let end = half + t.shape.slope;
+    let has_flank = t.shape.slope > 0.0;
+    let slope = if has_flank { t.shape.slope } else { 1.0 };
     let u = (dist - t.center).abs();
     let flank = 1.0 - (u - half) / slope;
     let flank = if has_flank && u < end { flank } else { 0.0 };
     let v = if u <= half {
-        t.height
+        t.shape.height
     } else {
-        t.height * flank
+        t.shape.height * flank
     };
-    if v > t.bias {
+    if v > t.shape.bias {
         v
     } else {
-        t.bias
+        t.shape.bias
     }
 }
 
@@ -576,10 +576,10 @@ fn range_factors<const RANGE: bool>(
         return;
     }
     let n = fs.len();
-    let w = 0.5 * rt.core + rt.slope;
+    let w = 0.5 * rt.shape.core + rt.shape.slope;
     let r_out = rt.center + w;
     let r_in = (rt.center - w).max(0.0);
-    fs.fill(rt.bias);
+    fs.fill(rt.shape.bias);
     if dy.abs() <= r_out {
         let (c_lo, c_hi, h_lo, h_hi) = annulus_cols(x0, s, n, lx, dy, r_out, r_in);
         for (a, b) in [(c_lo, h_lo), (h_hi, c_hi)] {
@@ -734,11 +734,11 @@ impl FuzzyGrid {
     /// cache, for [`FuzzyGrid::finish_update_from`].
     fn range_pass(&mut self, lx: f32, ly: f32, r: f32) -> f32 {
         let t = self.cfg.range.around(r);
-        let w = 0.5 * t.core + t.slope;
+        let w = 0.5 * t.shape.core + t.shape.slope;
         let r_out = r + w;
         let r_in = (r - w).max(0.0);
         let s = self.cell;
-        let bias = t.bias;
+        let bias = t.shape.bias;
         let combine = self.cfg.combine;
         let outside = |row: &mut [f32]| match combine {
             Combine::Product => row.iter_mut().for_each(|v| *v *= bias),
@@ -798,10 +798,10 @@ impl FuzzyGrid {
         let rt = range.map(|r| self.cfg.range.around(r));
         let obs = self.cfg.bearing.around(0.0);
         let o = ObsSet {
-            core: obs.core,
-            slope: obs.slope,
-            bias: obs.bias,
-            w0: 0.5 * obs.core + obs.slope * 1.0,
+            core: obs.shape.core,
+            slope: obs.shape.slope,
+            bias: obs.shape.bias,
+            w0: 0.5 * obs.shape.core + obs.shape.slope * 1.0,
         };
         // The branch-free path assumes what keeps every angle it wraps in
         // (−3π, 3π] and the observation's support off the full circle; any
@@ -868,8 +868,8 @@ impl FuzzyGrid {
             // set; `kept` marks those that stay above the floor.
             let settle = |h: &mut f32, b: &mut f32, d: &mut f32, k: &mut f32| {
                 let pend = *d == PENDING;
-                let b_in = blend(pend, *b * obs.bias, *b);
-                let d_in = blend(pend, obs.core, *d);
+                let b_in = blend(pend, *b * obs.shape.bias, *b);
+                let d_in = blend(pend, obs.shape.core, *d);
                 if st.floor > 0.0 {
                     (*h, *b, *d) = st.cell(*h, b_in, d_in);
                     *k = blend(pend & (*d < 2.0 * PI), 1.0, 0.0);
@@ -919,7 +919,7 @@ impl FuzzyGrid {
             }
             let dy = ly - (y0 + (j as f32 + 0.5) * s);
             let (ts, als) = (&mut theta[r.clone()], &mut alpha[r]);
-            kept_headings(kept, ts, als, (x0, s, lx, dy), bearing, obs.slope);
+            kept_headings(kept, ts, als, (x0, s, lx, dy), bearing, obs.shape.slope);
         }
         self.last_height
     }
@@ -1030,9 +1030,9 @@ impl FuzzyGrid {
                 // set and the consistency is 1 (exactly what
                 // `intersect_angle` gives, without its work).
                 self.theta[i] = o.center;
-                self.delta[i] = o.core;
-                self.alpha[i] = o.slope;
-                self.bias[i] *= o.bias;
+                self.delta[i] = o.shape.core;
+                self.alpha[i] = o.shape.slope;
+                self.bias[i] *= o.shape.bias;
                 let v = &mut self.h[i];
                 *v = match combine {
                     Combine::Product => *v * f,
@@ -1040,19 +1040,19 @@ impl FuzzyGrid {
                 };
                 continue;
             }
-            let a = Trapezoid {
-                center: self.theta[i],
-                core: self.delta[i],
-                slope: self.alpha[i],
-                height: 1.0,
-                bias: self.bias[i],
-            };
+            let a = Trapezoid::raw(
+                self.theta[i],
+                self.delta[i],
+                self.alpha[i],
+                1.0,
+                self.bias[i],
+            );
             let (n, cons) = a.intersect_with_consistency(&o);
             f *= cons;
             self.theta[i] = n.center;
-            self.delta[i] = n.core;
-            self.alpha[i] = n.slope;
-            self.bias[i] = n.bias;
+            self.delta[i] = n.shape.core;
+            self.alpha[i] = n.shape.slope;
+            self.bias[i] = n.shape.bias;
             let v = &mut self.h[i];
             *v = match combine {
                 Combine::Product => *v * f,

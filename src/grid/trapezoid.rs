@@ -3,7 +3,10 @@
 //! paper's intersection rule for angle sets (Fig. 4).
 //!
 //! This module is pure arithmetic: no grid, no allocation. Everything else in
-//! [`crate::grid`] measures distances and angles with these sets.
+//! [`crate::grid`] measures distances and angles with these sets. What it adds to the crate's
+//! one trapezoid ([`crate::core::trapezoid::Trapezoid`], which gives the shape and the
+//! membership: [`Trapezoid::shape`]) is a centre of its own, the circle of headings and the
+//! intersection of angle sets.
 //!
 //! # Conventions
 //!
@@ -13,7 +16,8 @@
 //!   the flank width instead of a gradient keeps the rectangle case finite.
 //! * The bias `b` is a uniform floor: `μ(x) = max(b, h · f(x))`
 //!   ([`BiasRule::Floor`], [`Trapezoid::BIAS_RULE`]; the rule engine's
-//!   similarities read it the other way, see [`crate::core::trapezoid`]). It
+//!   similarities, [`crate::logic::Similarity`], read it the other way, see
+//!   [`crate::core::trapezoid`]). It
 //!   is the possibility that the reading is an outlier ("the actual value is
 //!   somewhere else").
 //! * Angles are radians; every angular distance is taken the short way round,
@@ -35,25 +39,49 @@
 //! ```
 
 use crate::core::angle::wrap_pi_f32 as wrap_pi;
-use crate::core::trapezoid::BiasRule;
+use crate::core::trapezoid::{BiasRule, Trapezoid as CoreTrapezoid};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
 
 const TAU: f32 = 2.0 * PI;
 
-/// A trapezoidal fuzzy set `⟨center, core, slope, height, bias⟩`.
+/// A trapezoidal fuzzy set `⟨center, core, slope, height, bias⟩`: the crate's one trapezoid
+/// ([`CoreTrapezoid`], floor bias) placed at a centre of its own.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(from = "TrapezoidWire", into = "TrapezoidWire")]
 pub struct Trapezoid {
     /// θ: centre of the core.
     pub center: f32,
-    /// Δ: full width of the core (the fully possible values).
-    pub core: f32,
-    /// α: width of each flank (membership falls from `height` to 0 over it).
-    pub slope: f32,
-    /// h: height of the trapezoid, in [0, 1].
-    pub height: f32,
-    /// b: uniform bias, the possibility of an outlier, in [0, 1].
-    pub bias: f32,
+    /// `⟨Δ, α, h, b⟩` around θ, the bias a floor ([`Trapezoid::BIAS_RULE`]).
+    pub shape: CoreTrapezoid<f32>,
+}
+
+/// The serialized fields of a [`Trapezoid`]: flat, as before the shape was its own type.
+#[derive(Serialize, Deserialize)]
+struct TrapezoidWire {
+    center: f32,
+    core: f32,
+    slope: f32,
+    height: f32,
+    bias: f32,
+}
+
+impl From<TrapezoidWire> for Trapezoid {
+    fn from(w: TrapezoidWire) -> Self {
+        Trapezoid::raw(w.center, w.core, w.slope, w.height, w.bias)
+    }
+}
+
+impl From<Trapezoid> for TrapezoidWire {
+    fn from(t: Trapezoid) -> Self {
+        TrapezoidWire {
+            center: t.center,
+            core: t.shape.core,
+            slope: t.shape.slope,
+            height: t.shape.height,
+            bias: t.shape.bias,
+        }
+    }
 }
 
 impl Trapezoid {
@@ -68,69 +96,62 @@ impl Trapezoid {
                 0.0
             }
         };
+        Trapezoid::raw(
+            if center.is_finite() { center } else { 0.0 },
+            nn(core),
+            nn(slope),
+            unit(height),
+            unit(bias),
+        )
+    }
+
+    /// The set with exactly these values, unchecked (callers that computed them in range).
+    #[inline(always)]
+    pub const fn raw(center: f32, core: f32, slope: f32, height: f32, bias: f32) -> Self {
         Trapezoid {
-            center: if center.is_finite() { center } else { 0.0 },
-            core: nn(core),
-            slope: nn(slope),
-            height: unit(height),
-            bias: unit(bias),
+            center,
+            shape: CoreTrapezoid {
+                core,
+                slope,
+                height,
+                bias,
+                rule: Self::BIAS_RULE,
+            },
         }
     }
 
     /// Total ignorance about an angle: every heading fully possible.
     pub fn full_circle() -> Self {
-        Trapezoid {
-            center: 0.0,
-            core: TAU,
-            slope: 0.0,
-            height: 1.0,
-            bias: 1.0,
-        }
+        Trapezoid::raw(0.0, TAU, 0.0, 1.0, 1.0)
     }
 
     /// How the bias enters: `μ = max(b, h·f)`.
     pub const BIAS_RULE: BiasRule = BiasRule::Floor;
 
-    /// The trapezoid part's shape `f` (1 on the core, falling to 0 over the
-    /// flank, 0 outside the support) at a distance `u ≥ 0` from the centre.
-    #[inline]
-    fn shape(&self, u: f32) -> f32 {
-        let half = 0.5 * self.core;
-        if u <= half {
-            1.0
-        } else if self.slope > 0.0 && u < half + self.slope {
-            1.0 - (u - half) / self.slope
-        } else {
-            0.0 // also reached by NaN `u`
-        }
-    }
-
     /// Membership of a value on the real line (ranges). NaN gives the bias.
     #[inline]
     pub fn linear(&self, x: f32) -> f32 {
-        let f = self.shape((x - self.center).abs());
-        Self::BIAS_RULE.apply_f32(f, self.height, self.bias)
+        self.shape.degree_at((x - self.center).abs())
     }
 
     /// Membership of an angle, measured the short way round the circle.
     #[inline]
     pub fn angular(&self, phi: f32) -> f32 {
-        let f = self.shape(wrap_pi(phi - self.center).abs());
-        Self::BIAS_RULE.apply_f32(f, self.height, self.bias)
+        self.shape.degree_at(wrap_pi(phi - self.center).abs())
     }
 
     /// True when the set covers every heading at full height.
     pub fn is_full_circle(&self) -> bool {
-        self.core >= TAU
+        self.shape.core >= TAU
     }
 
     /// Half width of the level-`t` cut of the trapezoid part (t ≤ height);
     /// infinite when the cut covers the whole circle.
     #[inline]
     fn half_width_at(&self, t: f32) -> f32 {
-        let w = 0.5 * self.core
-            + if self.height > 0.0 {
-                self.slope * (1.0 - t / self.height)
+        let w = 0.5 * self.shape.core
+            + if self.shape.height > 0.0 {
+                self.shape.slope * (1.0 - t / self.shape.height)
             } else {
                 0.0
             };
@@ -150,7 +171,7 @@ impl Trapezoid {
     }
 
     fn overlap_level_at(a: &Trapezoid, b: &Trapezoid, d: f32) -> f32 {
-        let hmin = a.height.min(b.height);
+        let hmin = a.shape.height.min(b.shape.height);
         if hmin <= 0.0 {
             return 0.0;
         }
@@ -162,15 +183,24 @@ impl Trapezoid {
             // set, the cut at level t covers the circle while its own half
             // width at t stays ≥ π.
             let lvl = |s: &Trapezoid| -> f32 {
-                if s.half_width_at(s.height).is_infinite() || s.slope <= 0.0 {
-                    s.height
+                if s.half_width_at(s.shape.height).is_infinite() || s.shape.slope <= 0.0 {
+                    s.shape.height
                 } else {
                     // Solve Δ/2 + α(1 - t/h) = π for t.
-                    (s.height * (1.0 - (PI - 0.5 * s.core) / s.slope)).clamp(0.0, s.height)
+                    (s.shape.height * (1.0 - (PI - 0.5 * s.shape.core) / s.shape.slope))
+                        .clamp(0.0, s.shape.height)
                 }
             };
-            let la = if wa.is_infinite() { lvl(a) } else { a.height };
-            let lb = if wb.is_infinite() { lvl(b) } else { b.height };
+            let la = if wa.is_infinite() {
+                lvl(a)
+            } else {
+                a.shape.height
+            };
+            let lb = if wb.is_infinite() {
+                lvl(b)
+            } else {
+                b.shape.height
+            };
             // The other set's own height bounds the level too.
             return la.min(lb).min(hmin).max(0.0);
         }
@@ -178,8 +208,8 @@ impl Trapezoid {
         if reach < 0.0 {
             return 0.0;
         }
-        let rate = a.slope / a.height + b.slope / b.height;
-        let cores = 0.5 * (a.core + b.core) - d;
+        let rate = a.shape.slope / a.shape.height + b.shape.slope / b.shape.height;
+        let cores = 0.5 * (a.shape.core + b.shape.core) - d;
         if cores >= 0.0 {
             hmin
         } else if rate > 0.0 {
@@ -193,10 +223,10 @@ impl Trapezoid {
     /// `sup_φ min(μ_A(φ), μ_B(φ))`, bias included.
     pub fn consistency(&self, other: &Trapezoid) -> f32 {
         let t = self.overlap_level(other);
-        let bb = self.bias.min(other.bias);
+        let bb = self.shape.bias.min(other.shape.bias);
         t.max(bb)
-            .max(self.bias.min(other.height))
-            .max(self.height.min(other.bias))
+            .max(self.shape.bias.min(other.shape.height))
+            .max(self.shape.height.min(other.shape.bias))
     }
 
     /// [`Trapezoid::intersect_angle`] and [`Trapezoid::consistency`] at once,
@@ -205,9 +235,9 @@ impl Trapezoid {
         let d = wrap_pi(other.center - self.center);
         let t = Self::overlap_level_at(self, other, d.abs());
         let c = t
-            .max(self.bias.min(other.bias))
-            .max(self.bias.min(other.height))
-            .max(self.height.min(other.bias));
+            .max(self.shape.bias.min(other.shape.bias))
+            .max(self.shape.bias.min(other.shape.height))
+            .max(self.shape.height.min(other.shape.bias));
         (self.intersect_at(other, d, t), c)
     }
 
@@ -234,7 +264,7 @@ impl Trapezoid {
         let a = self;
         let b = other;
         if t > 0.0 {
-            let bias = a.bias * b.bias;
+            let bias = a.shape.bias * b.shape.bias;
             let (ca_lo, ca_hi) = interval(0.0, a.half_width_at(t));
             let (cb_lo, cb_hi) = interval(d, b.half_width_at(t));
             let (sa_lo, sa_hi) = interval(0.0, a.half_width_at(0.0));
@@ -267,20 +297,20 @@ impl Trapezoid {
                 bias,
             )
         } else {
-            let bias = 1.0 - (1.0 - a.bias) * (1.0 - b.bias);
-            let wa = 0.5 * a.core;
-            let wb = 0.5 * b.core;
+            let bias = 1.0 - (1.0 - a.shape.bias) * (1.0 - b.shape.bias);
+            let wa = 0.5 * a.shape.core;
+            let wb = 0.5 * b.shape.core;
             let core_lo = (-wa).min(d - wb);
             let core_hi = wa.max(d + wb);
-            let sup_lo = (-wa - a.slope).min(d - wb - b.slope);
-            let sup_hi = (wa + a.slope).max(d + wb + b.slope);
+            let sup_lo = (-wa - a.shape.slope).min(d - wb - b.shape.slope);
+            let sup_hi = (wa + a.shape.slope).max(d + wb + b.shape.slope);
             let flank = (core_lo - sup_lo).max(sup_hi - core_hi).max(0.0);
             let center = wrap_pi(a.center + 0.5 * (core_lo + core_hi));
             Trapezoid::new(
                 center,
                 (core_hi - core_lo).min(TAU),
                 flank.min(TAU),
-                a.height.max(b.height),
+                a.shape.height.max(b.shape.height),
                 bias,
             )
         }
@@ -320,8 +350,8 @@ mod tests {
         // Cores [π-0.2, π] and [-π, -π+0.2] touch at π: core collapses to π.
         let c = a.intersect_angle(&b);
         assert!(wrap_pi(c.center - PI).abs() < 1e-5, "{c:?}");
-        assert!((c.height - 1.0).abs() < 1e-6);
-        assert!((c.bias - 0.1).abs() < 1e-6);
+        assert!((c.shape.height - 1.0).abs() < 1e-6);
+        assert!((c.shape.bias - 0.1).abs() < 1e-6);
     }
 
     #[test]
@@ -330,9 +360,9 @@ mod tests {
         let b = Trapezoid::new(3.0, 0.4, 0.2, 1.0, 0.3);
         let c = a.intersect_angle(&b);
         assert!((c.center - 3.0).abs() < 1e-5, "{c:?}");
-        assert!((c.core - 0.4).abs() < 1e-5);
-        assert!((c.slope - 0.2).abs() < 1e-5);
-        assert!((c.bias - 0.3).abs() < 1e-6);
+        assert!((c.shape.core - 0.4).abs() < 1e-5);
+        assert!((c.shape.slope - 0.2).abs() < 1e-5);
+        assert!((c.shape.bias - 0.3).abs() < 1e-6);
         assert!((a.consistency(&b) - 1.0).abs() < 1e-6);
     }
 }

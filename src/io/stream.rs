@@ -138,6 +138,11 @@ impl Schema {
         u32::try_from(i).ok()
     }
 
+    /// The `region` name of an index [`Schema::region`] gave.
+    pub fn region_name(&self, index: u32) -> Option<&str> {
+        self.regions.get(index as usize).map(String::as_str)
+    }
+
     /// The slot of `name(args…)`; `None` when not declared.
     pub fn lookup<S: AsRef<str>>(&self, name: &str, args: &[S]) -> Option<PerceptSlot> {
         // The index compares bytes; up to eight arguments are viewed as such on the stack, more

@@ -30,7 +30,7 @@ pub enum Extent {
 /// A value a place expects: one number, or a range of equally expected values (`lo .. hi`,
 /// written `param free(North) = 0.4 .. 1.9;`), as a place that is a whole corridor expects
 /// different readings along its length. A similarity compares a reading with it by the
-/// distance to the nearest point of the range (see [`crate::logic::Trapezoid::degree_within`]).
+/// distance to the nearest point of the range (see [`crate::logic::Similarity::degree_within`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Expected {
     /// Lower end (the value itself for a single number).

@@ -251,7 +251,7 @@ fn heading_mark(s: &mut String, g: &FuzzyGrid, at: (usize, usize), block: f64, v
     let Some(hs) = g.heading_set(at.0, at.1) else {
         return;
     };
-    if hs.core + 2.0 * hs.slope >= std::f32::consts::PI {
+    if hs.shape.core + 2.0 * hs.shape.slope >= std::f32::consts::PI {
         return;
     }
     let (cx, cy) = g.cell_center(at.0, at.1);

@@ -5,7 +5,7 @@
 //! well formed, and every rule can fire. All problems are reported at once.
 //!
 //! Depends on `syntax` (the AST in, diagnostics out), `map` (names, walls, parameters) and
-//! `logic` (the `LogicConfig` and `Trapezoid` it produces).
+//! `logic` (the `LogicConfig` and `Similarity` it produces).
 //!
 //! # Decisions
 //!
@@ -20,7 +20,7 @@
 //!   `at_place`/`in_room`) that no firing rule concludes — is an error: it is dead code that
 //!   usually hides a misspelt head.
 
-use crate::logic::{Fusion, Implication, LogicConfig, Normalisation, TNorm, Trapezoid};
+use crate::logic::{Fusion, Implication, LogicConfig, Normalisation, Similarity, TNorm};
 use crate::map::Map;
 use crate::syntax::ast::*;
 use crate::syntax::diagnostic::{Diagnostic, DiagnosticKind, KeySuffix, NeverFiresReason};
@@ -68,7 +68,7 @@ pub struct RuleSet {
     /// `Room` and `Landmark` filled from the map.
     pub domains: BTreeMap<String, Vec<String>>,
     /// Similarities by name.
-    pub similarities: BTreeMap<String, Trapezoid>,
+    pub similarities: BTreeMap<String, Similarity>,
     /// Percepts by name.
     pub percepts: BTreeMap<String, Signature>,
     /// Derived predicates by name.
@@ -107,26 +107,7 @@ pub const MAX_GROUND_INSTANCES: u128 = 1_000_000;
 /// Every returned diagnostic points into the rule file. Call [`check_map_against_rules`]
 /// afterwards for the problems of the map that only the rule file reveals.
 pub fn check_rules(file: &RuleFile, map: &Map) -> Result<RuleSet, Vec<Diagnostic>> {
-    let mut c = Checker {
-        map,
-        diags: Vec::new(),
-        set: RuleSet {
-            logic: LogicConfig::default(),
-            domains: BTreeMap::new(),
-            similarities: BTreeMap::new(),
-            percepts: BTreeMap::new(),
-            predicates: BTreeMap::new(),
-            rules: Vec::new(),
-            regions: Vec::new(),
-            groups: Vec::new(),
-            params: BTreeSet::new(),
-        },
-        domain_spans: BTreeMap::new(),
-        grounded: 0,
-    };
-    c.builtin_domains();
-    c.regions(file);
-    c.declarations(file);
+    let mut c = Checker::declared(file, map);
     for item in &file.items {
         match item {
             RuleItem::Rule(r) => c.rule(r),
@@ -137,12 +118,52 @@ pub fn check_rules(file: &RuleFile, map: &Map) -> Result<RuleSet, Vec<Diagnostic
     c.never_fires();
     // The map's directions are checked separately (`check_map_against_rules`): those
     // diagnostics point into the map file, not this one.
-    let Checker { mut diags, set, .. } = c;
-    if diags.iter().any(Diagnostic::is_error) {
-        diags.sort_by_key(|d| (d.span.start, d.span.end));
-        Err(diags)
-    } else {
-        Ok(set)
+    c.finish()
+}
+
+/// The declarations of `file` over `map` — domains, regions, similarities, percepts and
+/// predicates, with no rule: the [`RuleSet`] a stream's percept table is enumerated from. A map
+/// whose places do not yet carry the parameters the rules compare with (before a survey) passes
+/// here, where [`check_rules`] reports each such parameter.
+pub fn check_declarations(file: &RuleFile, map: &Map) -> Result<RuleSet, Vec<Diagnostic>> {
+    Checker::declared(file, map).finish()
+}
+
+impl<'m> Checker<'m> {
+    /// A checker over `map` that has read the declarations of `file`.
+    fn declared(file: &RuleFile, map: &'m Map) -> Checker<'m> {
+        let mut c = Checker {
+            map,
+            diags: Vec::new(),
+            set: RuleSet {
+                logic: LogicConfig::default(),
+                domains: BTreeMap::new(),
+                similarities: BTreeMap::new(),
+                percepts: BTreeMap::new(),
+                predicates: BTreeMap::new(),
+                rules: Vec::new(),
+                regions: Vec::new(),
+                groups: Vec::new(),
+                params: BTreeSet::new(),
+            },
+            domain_spans: BTreeMap::new(),
+            grounded: 0,
+        };
+        c.builtin_domains();
+        c.regions(file);
+        c.declarations(file);
+        c
+    }
+
+    /// The rule set, or every problem found sorted by position when one is an error.
+    fn finish(self) -> Result<RuleSet, Vec<Diagnostic>> {
+        let Checker { mut diags, set, .. } = self;
+        if diags.iter().any(Diagnostic::is_error) {
+            diags.sort_by_key(|d| (d.span.start, d.span.end));
+            Err(diags)
+        } else {
+            Ok(set)
+        }
     }
 }
 
@@ -570,7 +591,7 @@ impl Checker<'_> {
         self.set.domains.insert(name.clone(), values);
     }
 
-    fn similarity(&mut self, s: &SimilarityDecl) -> Option<Trapezoid> {
+    fn similarity(&mut self, s: &SimilarityDecl) -> Option<Similarity> {
         if s.shape.node != "trapezoid" {
             self.err(
                 DiagnosticKind::UnknownShape {
@@ -580,7 +601,7 @@ impl Checker<'_> {
             );
             return None;
         }
-        let mut t = Trapezoid::default();
+        let mut t = Similarity::default();
         let mut seen: BTreeMap<&str, Span> = BTreeMap::new();
         let mut ok = true;
         let mut height_span = None;
@@ -611,14 +632,14 @@ impl Checker<'_> {
                     self.err(bad("must be in [0, 1]"), v.span);
                     ok = false;
                 }
-                "core" => t.core = x,
-                "slope" => t.slope = x,
+                "core" => t.shape.core = x,
+                "slope" => t.shape.slope = x,
                 "period" => t.period = Some(x),
                 "height" => {
-                    t.height = x;
+                    t.shape.height = x;
                     height_span = Some(v.span);
                 }
-                "bias" => t.bias = x,
+                "bias" => t.shape.bias = x,
                 _ => {
                     self.err(
                         DiagnosticKind::UnknownField {
@@ -630,7 +651,7 @@ impl Checker<'_> {
                 }
             }
         }
-        if ok && t.bias > t.height {
+        if ok && t.shape.bias > t.shape.height {
             let span = s
                 .fields
                 .iter()
@@ -641,7 +662,7 @@ impl Checker<'_> {
             self.err(
                 DiagnosticKind::BadFieldValue {
                     field: "bias".into(),
-                    value: t.bias,
+                    value: t.shape.bias,
                     requirement: "must not exceed the height",
                 },
                 span,

@@ -8,5 +8,6 @@
 mod check;
 
 pub use check::{
-    check_map_against_rules, check_rules, is_place_head, RuleSet, Signature, MAX_GROUND_INSTANCES,
+    check_declarations, check_map_against_rules, check_rules, is_place_head, RuleSet, Signature,
+    MAX_GROUND_INSTANCES,
 };

@@ -36,8 +36,7 @@ use crate::syntax::ast::{Feature, Formula, MapFile, MapItem, RuleFile, RuleItem,
 mod run;
 
 pub use run::{
-    label_frames, parse_labels, read_records, LabelRow, PlaceReport, Records, Survey,
-    SurveyOutcome, Truth,
+    label_frames, parse_labels, LabelRow, PlaceReport, Records, Survey, SurveyOutcome, Truth,
 };
 
 /// A percept feeding a map parameter (from the rules).

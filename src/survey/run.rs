@@ -12,10 +12,16 @@ use super::{
     decide_all, fit, links_from_rules, visits, write_params, ParamLink, PlaceFit, Protocol, Score,
     SurveyConfig, SurveyError,
 };
+use crate::engine::query::set_names;
 use crate::engine::tracker::TrackerConfig;
-use crate::engine::{CompileOptions, Engine, FileRole, LoadError};
-use crate::io::record::{FrameRecord, RecordError};
+use crate::engine::{
+    CompileOptions, Engine, FileRole, Frame, LoadError, PerceptSlot, PerceptTable,
+};
+use crate::io::record::{FrameRecord, PerceptRecord};
+use crate::io::stream::{FrameMeta, LineError, ReadOutcome, Schema, StreamFormat, StreamReader};
+use crate::map::Map;
 use crate::report::run::StreamRun;
+use crate::rules::check_declarations;
 use crate::syntax::ast::MapFile;
 use crate::syntax::diagnostic::SourceFile;
 use crate::syntax::{parse_map, parse_rules};
@@ -23,32 +29,54 @@ use crate::syntax::{parse_map, parse_rules};
 /// The warning a place fitted from fewer than `min_scans` frames carries.
 const FEW_SCANS: &str = "few scans, the fit is unreliable";
 
-/// Records read from a stream: the parsed ones, and each line that was not one.
+/// Records read from a stream: the accepted ones, and each line that was rejected.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Records {
-    /// The parsed records, in stream order.
+    /// The accepted records, in stream order.
     pub frames: Vec<FrameRecord>,
-    /// `(line, why)` of every rejected line (1-based, blank lines counted).
-    pub rejected: Vec<(usize, RecordError)>,
+    /// Every rejected record with its 1-based line, as [`StreamReader`] words it.
+    pub rejected: Vec<LineError>,
 }
 
-/// Every record of a JSON Lines stream; blank lines are skipped, malformed ones collected.
-///
-/// # Errors
-/// The reader's own error (unreadable, not UTF-8).
-pub fn read_records(reader: impl BufRead) -> std::io::Result<Records> {
-    let mut out = Records::default();
-    for (n, line) in reader.lines().enumerate() {
-        let line = line?;
-        if line.trim().is_empty() {
-            continue;
-        }
-        match FrameRecord::parse(&line) {
-            Ok(f) => out.frames.push(f),
-            Err(e) => out.rejected.push((n + 1, e)),
-        }
+/// The record the reader accepted into `frame`/`meta`, with names again: the fit groups values
+/// by percept name and the held-out score steps whole records, as the stream gave them.
+fn record_of(
+    frame: &Frame,
+    meta: &FrameMeta,
+    order: &[PerceptSlot],
+    schema: &Schema,
+) -> FrameRecord {
+    let percepts = order
+        .iter()
+        .filter_map(|&slot| {
+            let inst = schema.instance(slot)?;
+            let k = slot.0 as usize;
+            let value = frame.value.get(k).copied().filter(|v| !v.is_nan());
+            Some(PerceptRecord {
+                name: inst.name.clone(),
+                args: inst.args.clone(),
+                value,
+                degree: frame.degree.get(k).copied().unwrap_or(0.0),
+            })
+        })
+        .collect();
+    let truth = meta.truth_known.then(|| crate::io::record::Truth {
+        place: meta
+            .truth_place
+            .and_then(|p| schema.places().get(p).cloned()),
+        pose: meta.truth_pose,
+    });
+    FrameRecord {
+        version: None,
+        t: meta.t,
+        odometry: Some(meta.odometry),
+        heading: meta.heading,
+        percepts,
+        truth,
+        region: meta
+            .region
+            .and_then(|r| schema.region_name(r).map(str::to_owned)),
     }
-    Ok(out)
 }
 
 /// One row of ground truth: from time `t` on, the robot is at `place` (`None`: between places).
@@ -175,14 +203,20 @@ pub struct Survey {
     rules: SourceFile,
     links: Vec<ParamLink>,
     cfg: SurveyConfig,
+    /// The names a stream may use: the rules' percepts over the map as given (their parameters
+    /// play no part), the map's places and regions — what `lplace eval` reads with.
+    schema: Schema,
 }
 
 impl Survey {
-    /// Parses the map and the rules (not checked against each other: only the map's text and
-    /// the rules' percept → parameter links are needed) and checks the quantiles.
+    /// Parses the map and the rules, checks the quantiles, and builds the stream's schema from
+    /// the rules' declarations over the map as given: which percepts, places and regions a
+    /// record may name depends on those, not on the place parameters the survey is about to
+    /// write (and which the map may not have yet, so the rules are not checked against it).
     ///
     /// # Errors
-    /// [`SurveyError::Load`] with the diagnostics of the first file that does not parse,
+    /// [`SurveyError::Load`] with the diagnostics of the first file that does not parse, of a
+    /// map that does not build, or of declarations that do not check;
     /// [`SurveyError::Quantiles`] unless `0 ≤ lo ≤ hi ≤ 1`.
     pub fn new(
         map: SourceFile,
@@ -202,13 +236,48 @@ impl Survey {
                 hi: cfg.hi,
             });
         }
+        let model = Map::from_ast(&map_ast).map_err(|d| fail(FileRole::Map, &map, d))?;
+        let declared =
+            check_declarations(&rules_ast, &model).map_err(|d| fail(FileRole::Rules, &rules, d))?;
+        let schema = Schema::new(&PerceptTable::new(&declared), &model)
+            .with_regions(set_names(&model, &declared));
         Ok(Survey {
             links: links_from_rules(&rules_ast),
             map,
             map_ast,
             rules,
             cfg,
+            schema,
         })
+    }
+
+    /// Every record of a percept stream in `format`, read by [`StreamReader`] as every command
+    /// reads one (the same validation, rejections and line numbers). Blank lines are skipped;
+    /// rejected records are collected, not fitted.
+    ///
+    /// # Errors
+    /// The reader's own error (unreadable).
+    pub fn read_records(
+        &self,
+        input: impl BufRead,
+        format: StreamFormat,
+    ) -> std::io::Result<Records> {
+        let mut reader = StreamReader::new(input, self.schema.clone(), format);
+        let mut frame = Frame::new(self.schema.slots());
+        let mut meta = FrameMeta::default();
+        let mut out = Records::default();
+        loop {
+            match reader.next_frame(&mut frame, &mut meta)? {
+                ReadOutcome::End => return Ok(out),
+                ReadOutcome::Rejected(e) => out.rejected.push(e),
+                ReadOutcome::Frame => out.frames.push(record_of(
+                    &frame,
+                    &meta,
+                    reader.percept_order(),
+                    &self.schema,
+                )),
+            }
+        }
     }
 
     /// The configuration.
@@ -349,13 +418,67 @@ mod tests {
     }
 
     #[test]
-    fn records_count_blank_lines_and_collect_the_malformed() {
+    fn records_count_blank_lines_and_collect_the_rejected() {
+        let map = SourceFile::new("m.map", crate::engine::OFFICE_MAP);
+        let rules = SourceFile::new("r.lpl", crate::engine::OFFICE_RULES);
+        let s = Survey::new(map, rules, SurveyConfig::default()).expect("loads");
+        // Line 3 is not JSON, 4 has another version, 6 a degree above 1, 8 goes back in time.
         let text = "{\"t\":1.0,\"percepts\":[]}\n\n{oops\n{\"version\":99,\"percepts\":[]}\n\
-                    {\"t\":2.0,\"percepts\":[]}\n";
-        let got = read_records(text.as_bytes()).expect("read");
-        assert_eq!(got.frames.len(), 2);
-        let lines: Vec<usize> = got.rejected.iter().map(|r| r.0).collect();
-        assert_eq!(lines, vec![3, 4]);
+                    {\"t\":2.0,\"odometry\":{\"dx\":0.5},\"percepts\":[{\"name\":\"beacon_angle\",\
+                    \"value\":30,\"degree\":0.5}],\"truth\":{\"place\":\"P1\"}}\n\
+                    {\"t\":2.5,\"percepts\":[{\"name\":\"beacon_angle\",\"value\":1,\"degree\":1.5}]}\n\
+                    {\"t\":3.0,\"percepts\":[]}\n{\"t\":0.5,\"percepts\":[]}\n{\"t\":4.0,\"percepts\":[]}\n";
+        let got = s
+            .read_records(text.as_bytes(), StreamFormat::JsonLines)
+            .expect("read");
+        let lines: Vec<u64> = got.rejected.iter().map(|r| r.line).collect();
+        assert_eq!(lines, vec![3, 4, 6, 8]);
+        let t: Vec<Option<f64>> = got.frames.iter().map(|f| f.t).collect();
+        assert_eq!(t, vec![Some(1.0), Some(2.0), Some(3.0), Some(4.0)]);
+        // The accepted record comes back with its names, values and truth.
+        let f = &got.frames[1];
+        assert_eq!(f.odometry.map(|o| o.dx), Some(0.5));
+        assert_eq!(f.percepts.len(), 1);
+        assert_eq!(
+            (
+                f.percepts[0].name.as_str(),
+                f.percepts[0].value,
+                f.percepts[0].degree
+            ),
+            ("beacon_angle", Some(30.0), 0.5)
+        );
+        let place = f.truth.as_ref().and_then(|t| t.place.as_deref());
+        assert_eq!(place, Some("P1"));
+    }
+
+    #[test]
+    fn a_map_without_the_parameters_still_reads_its_stream() {
+        // Before a survey the places need not carry what the rules compare with.
+        let bare: String = crate::engine::OFFICE_MAP
+            .lines()
+            .map(|l| match l.find("param ") {
+                Some(i) => &l[..i],
+                None => l,
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+        assert!(!bare.contains("param "));
+        let map = SourceFile::new("m.map", bare);
+        let rules = SourceFile::new("r.lpl", crate::engine::OFFICE_RULES);
+        // The rules do not check against this map …
+        assert!(Engine::load_with(&map, &rules, &CompileOptions::default()).is_err());
+        // … but their declarations do, and give the stream its percepts and places.
+        let s = Survey::new(map, rules, SurveyConfig::default()).expect("declarations check");
+        let text = "{\"t\":1.0,\"percepts\":[{\"name\":\"beacon_angle\",\"value\":30,\"degree\":1}],\
+                    \"truth\":{\"place\":\"P0\"}}\n{\"t\":2.0,\"percepts\":[{\"name\":\"nope\",\"degree\":1}]}\n";
+        let got = s
+            .read_records(text.as_bytes(), StreamFormat::JsonLines)
+            .expect("read");
+        assert_eq!(got.frames.len(), 1);
+        assert_eq!(
+            got.rejected.iter().map(|r| r.line).collect::<Vec<_>>(),
+            vec![2]
+        );
     }
 
     #[test]

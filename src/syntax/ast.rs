@@ -137,7 +137,7 @@ pub struct DomainDecl {
 ///
 /// The trapezoid ⟨θ, Δ, α, h, b⟩ of paper 000: its centre θ is the expected value supplied by the
 /// place, `core` is Δ, `slope` is α, `height` h and `bias` b. Omitted fields take the defaults
-/// documented on `logic::Trapezoid`.
+/// documented on `logic::Similarity`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimilarityDecl {
     /// Name by which percepts refer to it.

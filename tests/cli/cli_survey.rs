@@ -32,15 +32,21 @@ fn write(dir: &Path, name: &str, lines: &[String]) -> PathBuf {
     p
 }
 
+/// `lplace survey` over the bundled office map and rules, the stream still to be named.
+fn survey_office() -> assert_cmd::Command {
+    let mut c = lplace();
+    c.args([
+        "survey",
+        "--map",
+        "maps/office.map",
+        "--rules",
+        "rules/office.lpl",
+    ]);
+    c
+}
+
 fn survey(stream: &Path, extra: &[&str]) -> (Option<i32>, String, String) {
-    let out = lplace()
-        .args([
-            "survey",
-            "--map",
-            "maps/office.map",
-            "--rules",
-            "rules/office.lpl",
-        ])
+    let out = survey_office()
         .arg(stream)
         .args(extra)
         .output()
@@ -144,7 +150,7 @@ fn errors_exit_with_their_codes_and_say_where() {
     let (code, out, err) = survey(&stream, &[]);
     assert_eq!(code, Some(3), "{err}");
     assert!(
-        err.starts_with(&format!("{}:4: malformed record", stream.display())),
+        err.starts_with(&format!("{}:4:2: not JSON", stream.display())),
         "{err}"
     );
     assert!(out.contains("param A = 10.00 .. 90.00;"));
@@ -162,12 +168,11 @@ fn errors_exit_with_their_codes_and_say_where() {
     assert_eq!(code, Some(2));
     assert_eq!(err, format!("{}:3: expected `t,place`\n", csv.display()));
 
-    let stray = write(
-        &dir,
-        "stray.jsonl",
-        &[record(0.0, 0.0, "Nowhere", 1.0, 1.0)],
-    );
-    let (code, out, err) = survey(&stray, &[]);
+    // A place the map does not declare cannot be written (in a record's truth the reader
+    // rejects it, as `eval` does; from a labels file it reaches the fit).
+    let stray = dir.join("stray.csv");
+    std::fs::write(&stray, "t,place\n0,Nowhere\n").expect("written");
+    let (code, out, err) = survey(&good, &["--labels", stray.to_str().expect("utf-8")]);
     assert_eq!((code, out.as_str()), (Some(2), ""));
     assert!(
         err.contains("place `Nowhere` was fitted but the map does not declare it"),
@@ -198,4 +203,64 @@ fn errors_exit_with_their_codes_and_say_where() {
 
     let (code, _, _) = survey(&dir.join("absent.jsonl"), &[]);
     assert_eq!(code, Some(1));
+}
+
+#[test]
+fn bad_records_are_rejected_by_line_as_eval_rejects_them() {
+    let dir = scratch("cli_survey", "reader");
+    let mut lines = p0_lines();
+    // Line 3: a degree above 1; line 9: a time before the previous record's (0.6).
+    let over = record(0.15, 0.0, "P0", 15.0, 1.05).replacen("\"degree\":1}", "\"degree\":1.5}", 1);
+    lines.insert(2, over);
+    lines.insert(8, record(0.25, 0.0, "P0", 500.0, 9.0));
+    let stream = write(&dir, "bad.jsonl", &lines);
+    // The time of line 8 as `p0_lines` writes it (k = 6).
+    let previous = 6.0 * 0.1;
+    let (code, out, err) = survey(&stream, &[]);
+    assert_eq!(code, Some(3), "{err}");
+    let name = stream.display();
+    let reported: Vec<&str> = err
+        .lines()
+        .filter(|l| l.starts_with(&*name.to_string()))
+        .collect();
+    assert_eq!(
+        reported,
+        vec![
+            format!("{name}:3: percept `beacon_angle`: degree 1.5 is outside [0, 1]"),
+            format!("{name}:9: time goes backwards: t = 0.25 after t = {previous}"),
+        ]
+    );
+    // Neither record reaches the fit: the map is the one the ten good records give.
+    let clean = write(&dir, "clean.jsonl", &p0_lines());
+    let (clean_code, clean_out, _) = survey(&clean, &[]);
+    assert_eq!(clean_code, Some(0));
+    assert_eq!(out, clean_out);
+    // `eval` reads the same stream with the same reader: the same reports.
+    let ev = lplace()
+        .args([
+            "eval",
+            "--map",
+            "maps/office.map",
+            "--rules",
+            "rules/office.lpl",
+        ])
+        .arg(&stream)
+        .output()
+        .expect("runs");
+    assert_eq!(ev.status.code(), Some(3));
+    let ev_err = String::from_utf8_lossy(&ev.stderr).into_owned();
+    let ev_reported: Vec<&str> = ev_err
+        .lines()
+        .filter(|l| l.starts_with(&*name.to_string()))
+        .collect();
+    assert_eq!(ev_reported, reported);
+    // `-` reads stdin, as for `eval`: the same map as from the file.
+    let text = std::fs::read(&clean).expect("written above");
+    let piped = survey_office()
+        .arg("-")
+        .write_stdin(text)
+        .output()
+        .expect("runs");
+    assert_eq!(piped.status.code(), Some(0));
+    assert_eq!(String::from_utf8_lossy(&piped.stdout), clean_out);
 }

@@ -1,5 +1,5 @@
 //! The tracker against a straightforward reference of the formulas in its module docs: `R_ij`
-//! through `Trapezoid::degree` per pair, the blur, intersection, conflict union and anchor
+//! through `Similarity::degree` per pair, the blur, intersection, conflict union and anchor
 //! revision as plain loops over `i` and `j`. The tracker evaluates the same formulas in a
 //! restructured order (gates as arrays, branch-free rows, terms hoisted out of the pair loops);
 //! max and min select exactly, so on random maps, configurations, evidence and odometry every
@@ -18,7 +18,7 @@ use lplace::core::Odometry;
 use lplace::engine::tracker::{Tracker, TrackerConfig, TrackerState};
 use lplace::logic::{
     clamp_degree, decide, Decision, DecisionParams, Disoriented, Normalisation, PlaceDistribution,
-    TNorm, Trapezoid,
+    Similarity, TNorm,
 };
 use lplace::map::{Extent, Map};
 use lplace::syntax::parse_map;
@@ -30,7 +30,7 @@ struct Reference {
     params: DecisionParams,
     /// `L'_ij` (infinite where there is no path).
     length: Vec<Vec<f64>>,
-    shape: Vec<Vec<Trapezoid>>,
+    shape: Vec<Vec<Similarity>>,
     anchor: Vec<f64>,
     since: Vec<f64>,
     /// Displacement since each anchor, `None` where unknown.
@@ -119,13 +119,13 @@ impl Reference {
                 row.iter()
                     .map(|&l| {
                         let l = if l.is_finite() { l } else { 0.0 };
-                        Trapezoid {
-                            core: 2.0 * (cfg.tolerance + cfg.tolerance_rel * l),
-                            slope: cfg.slope + cfg.slope_rel * l,
-                            height: 1.0,
-                            bias: 0.0,
-                            period: None,
-                        }
+                        Similarity::new(
+                            2.0 * (cfg.tolerance + cfg.tolerance_rel * l),
+                            cfg.slope + cfg.slope_rel * l,
+                            1.0,
+                            0.0,
+                            None,
+                        )
                     })
                     .collect()
             })
@@ -157,13 +157,13 @@ impl Reference {
         if let Some(d) = self.disp[i] {
             let ((pa, a), (pb, b)) = (self.extents[i], self.extents[j]);
             let s = self.since[i];
-            let shape = Trapezoid {
-                core: 2.0 * (self.cfg.tolerance_d + self.cfg.tolerance_d_rel * s),
-                slope: self.cfg.slope_d + self.cfg.slope_d_rel * s,
-                height: 1.0,
-                bias: 0.0,
-                period: None,
-            };
+            let shape = Similarity::new(
+                2.0 * (self.cfg.tolerance_d + self.cfg.tolerance_d_rel * s),
+                self.cfg.slope_d + self.cfg.slope_d_rel * s,
+                1.0,
+                0.0,
+                None,
+            );
             return shape.degree(gap(pa, a, d, pb, b), 0.0);
         }
         let l = self.length[i][j];

@@ -10,7 +10,7 @@
 
 use lplace::logic::{
     clamp_degree, decide, Decision, DecisionParams, Disoriented, Implication, LogicConfig,
-    Normalisation, PlaceDistribution, TNorm, Trapezoid,
+    Normalisation, PlaceDistribution, Similarity, TNorm,
 };
 
 const EPS: f64 = 1e-12;
@@ -529,13 +529,7 @@ fn clamp_degree_hand_points() {
 /// - x = NaN:                              → 0.2
 #[test]
 fn trapezoid_linear_hand_points() {
-    let t = Trapezoid {
-        core: 4.0,
-        slope: 2.0,
-        height: 0.9,
-        bias: 0.2,
-        period: None,
-    };
+    let t = Similarity::new(4.0, 2.0, 0.9, 0.2, None);
     for (x, want) in [
         (50.0, 0.9),
         (52.0, 0.9),
@@ -557,11 +551,7 @@ fn trapezoid_linear_hand_points() {
 /// Crisp interval (slope 0), core 10, height 1, bias 0: μ = 1 for |x − c| ≤ 5, else 0.
 #[test]
 fn trapezoid_crisp_hand_points() {
-    let t = Trapezoid {
-        core: 10.0,
-        slope: 0.0,
-        ..Trapezoid::default()
-    };
+    let t = Similarity::new(10.0, 0.0, 1.0, 0.0, None);
     assert_eq!(t.degree(5.0, 0.0), 1.0);
     assert_eq!(t.degree(-5.0, 0.0), 1.0);
     assert_eq!(t.degree(5.5, 0.0), 0.0);
@@ -577,13 +567,7 @@ fn trapezoid_crisp_hand_points() {
 /// - x = 300°:   d = 50 → f = 1 − 35/30 < 0 → 0 → 0.1
 #[test]
 fn trapezoid_circular_hand_points() {
-    let t = Trapezoid {
-        core: 30.0,
-        slope: 30.0,
-        height: 1.0,
-        bias: 0.1,
-        period: Some(360.0),
-    };
+    let t = Similarity::new(30.0, 30.0, 1.0, 0.1, Some(360.0));
     for (x, want) in [
         (10.0, 0.85),
         (20.0, 0.55),

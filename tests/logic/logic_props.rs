@@ -14,7 +14,7 @@
 
 use lplace::logic::{
     clamp_degree, decide, Decision, DecisionParams, Disoriented, Fusion, Normalisation,
-    PlaceDistribution, PlaceSet, TNorm, Trapezoid,
+    PlaceDistribution, PlaceSet, Similarity, TNorm,
 };
 use proptest::prelude::*;
 
@@ -484,7 +484,7 @@ proptest! {
     }
 
     // -----------------------------------------------------------------------------------------
-    // clamp_degree and Trapezoid
+    // clamp_degree and Similarity
     // -----------------------------------------------------------------------------------------
 
     #[test]
@@ -519,14 +519,14 @@ proptest! {
         d1 in 0.0..60.0f64,
         d2 in 0.0..60.0f64,
     ) {
-        let t = Trapezoid { core, slope, height: h, bias: h * bias_frac, period: None };
+        let t = Similarity::new(core, slope, h, h * bias_frac, None);
         let (near, far) = if d1 <= d2 { (d1, d2) } else { (d2, d1) };
         let mu = |x: f64| t.degree(x, centre);
         for x in [centre + near, centre - near, centre + far] {
             let m = mu(x);
             prop_assert!(
-                m >= t.bias - EPS && m <= h + EPS,
-                "μ({}) = {} outside [{}, {}]", x, m, t.bias, h
+                m >= t.shape.bias - EPS && m <= h + EPS,
+                "μ({}) = {} outside [{}, {}]", x, m, t.shape.bias, h
             );
         }
         prop_assert!((mu(centre + near) - mu(centre - near)).abs() <= 1e-9);
@@ -534,8 +534,8 @@ proptest! {
         prop_assert!(t.degree(far, 0.0) <= t.degree(near, 0.0) + EPS);
         // b + (h − b)·1 need not round back to exactly h.
         prop_assert!(close(t.degree(centre, centre), h));
-        prop_assert_eq!(t.degree(f64::NAN, centre), t.bias);
-        prop_assert_eq!(t.degree(f64::INFINITY, centre), t.bias);
+        prop_assert_eq!(t.degree(f64::NAN, centre), t.shape.bias);
+        prop_assert_eq!(t.degree(f64::INFINITY, centre), t.shape.bias);
     }
 
     /// A circular trapezoid (period 360) cannot tell x from x + 360·k, and its value depends only
@@ -548,7 +548,7 @@ proptest! {
         x in 0.0..360.0f64,
         turns in -3i32..=3,
     ) {
-        let t = Trapezoid { core, slope, height: 1.0, bias: 0.0, period: Some(360.0) };
+        let t = Similarity::new(core, slope, 1.0, 0.0, Some(360.0));
         let a = t.degree(x, centre);
         let b = t.degree(x + 360.0 * f64::from(turns), centre);
         prop_assert!(
@@ -556,7 +556,7 @@ proptest! {
             "μ({}) = {} but μ({} + 360·{}) = {}", x, a, x, turns, b
         );
         // Same value as the linear trapezoid at the circular distance.
-        let lin = Trapezoid { period: None, ..t };
+        let lin = Similarity { period: None, ..t };
         let raw = (x - centre).abs();
         let circ = raw.min(360.0 - raw);
         prop_assert!((a - lin.degree(circ, 0.0)).abs() <= 1e-9);

@@ -208,7 +208,7 @@ fn brute_force(g: &FuzzyGrid, rel: f32, r: ObjectReading, cfg: &CoopConfig) -> V
             for qr in 0..g.ny() {
                 for qc in 0..g.nx() {
                     let hs = g.heading_set(qc, qr).unwrap();
-                    if hs.height <= 0.0 {
+                    if hs.shape.height <= 0.0 {
                         continue;
                     }
                     let (qx, qy) = g.cell_center(qc, qr);
@@ -218,9 +218,12 @@ fn brute_force(g: &FuzzyGrid, rel: f32, r: ObjectReading, cfg: &CoopConfig) -> V
                     let range_m = ramp(((d - r.range).abs() - 0.5 * s).max(0.0), rc, rs);
                     let delta = (0.5 * s).atan2(d);
                     let self_m = |th: f32| {
-                        hs.height
-                            * hs.bias
-                                .max(ramp(wrap(th - hs.center).abs(), hs.core, hs.slope))
+                        hs.shape.height
+                            * hs.shape.bias.max(ramp(
+                                wrap(th - hs.center).abs(),
+                                hs.shape.core,
+                                hs.shape.slope,
+                            ))
                     };
                     let bear_m =
                         |th: f32| ramp((wrap(psi - th - r.bearing).abs() - delta).max(0.0), bc, bs);

@@ -20,10 +20,13 @@ fn fig4_overlapping_cores() {
     let b = Trapezoid::new(0.3, 0.4, 0.2, 1.0, 0.2);
     let c = a.intersect_angle(&b);
     assert!(
-        close(c.center, 0.15) && close(c.core, 0.1) && close(c.slope, 0.2),
+        close(c.center, 0.15) && close(c.shape.core, 0.1) && close(c.shape.slope, 0.2),
         "{c:?}"
     );
-    assert!(close(c.height, 1.0) && close(c.bias, 0.02), "{c:?}");
+    assert!(
+        close(c.shape.height, 1.0) && close(c.shape.bias, 0.02),
+        "{c:?}"
+    );
 }
 
 #[test]
@@ -35,10 +38,13 @@ fn fig4_flanks_only() {
     let b = Trapezoid::new(0.4, 0.2, 0.2, 1.0, 0.5);
     let c = a.intersect_angle(&b);
     assert!(
-        close(c.center, 0.2) && close(c.core, 0.0) && close(c.slope, 0.1),
+        close(c.center, 0.2) && close(c.shape.core, 0.0) && close(c.shape.slope, 0.1),
         "{c:?}"
     );
-    assert!(close(c.height, 0.5) && close(c.bias, 0.25), "{c:?}");
+    assert!(
+        close(c.shape.height, 0.5) && close(c.shape.bias, 0.25),
+        "{c:?}"
+    );
     assert!(close(a.consistency(&b), 0.5));
 }
 
@@ -51,10 +57,13 @@ fn fig4_disjoint_takes_outer_envelope_of_union() {
     let b = Trapezoid::new(1.0, 0.2, 0.1, 1.0, 0.2);
     let c = a.intersect_angle(&b);
     assert!(
-        close(c.center, 0.5) && close(c.core, 1.2) && close(c.slope, 0.1),
+        close(c.center, 0.5) && close(c.shape.core, 1.2) && close(c.shape.slope, 0.1),
         "{c:?}"
     );
-    assert!(close(c.height, 1.0) && close(c.bias, 0.28), "{c:?}");
+    assert!(
+        close(c.shape.height, 1.0) && close(c.shape.bias, 0.28),
+        "{c:?}"
+    );
     // The plane factor of contradicting headings is the larger bias.
     assert!(close(a.consistency(&b), 0.2));
 }
@@ -71,7 +80,10 @@ fn fig4_across_the_pi_seam() {
         close(lplace::core::angle::wrap_pi_f32(c.center - PI), 0.0),
         "{c:?}"
     );
-    assert!(close(c.core, 0.1168) && close(c.slope, 0.2), "{c:?}");
+    assert!(
+        close(c.shape.core, 0.1168) && close(c.shape.slope, 0.2),
+        "{c:?}"
+    );
 }
 
 /// Paper 000's field: 2 m × 3 m, six landmarks on the long sides.

@@ -233,13 +233,13 @@ proptest! {
             let t = g.heading_set(c % 20, c / 20).unwrap();
             if n < floor * 0.999 {
                 prop_assert_eq!(got, floor);
-                prop_assert!(t.bias == 1.0 && t.core >= 2.0 * std::f32::consts::PI);
+                prop_assert!(t.shape.bias == 1.0 && t.shape.core >= 2.0 * std::f32::consts::PI);
             } else if n > floor * 1.001 {
                 prop_assert!((got - n).abs() <= 1e-4 * n, "cell {}: {} vs {}", c, got, n);
-                prop_assert!((t.core - 1.0).abs() < 1e-6);
+                prop_assert!((t.shape.core - 1.0).abs() < 1e-6);
                 let b = vals[c];
                 let want_b = if n * b < floor { floor / n } else { b };
-                prop_assert!((t.bias - want_b).abs() <= 1e-4 * want_b.max(1e-6), "cell {}: bias {} vs {}", c, t.bias, want_b);
+                prop_assert!((t.shape.bias - want_b).abs() <= 1e-4 * want_b.max(1e-6), "cell {}: bias {} vs {}", c, t.shape.bias, want_b);
             }
             prop_assert!((0.0..=1.0).contains(&got));
         }
@@ -273,24 +273,25 @@ proptest! {
         let a = Trapezoid::new(ca, da, aa, 1.0, ba);
         let b = Trapezoid::new(cb, db, ab, 1.0, bb);
         let c = a.intersect_angle(&b);
-        prop_assert!((0.0..=1.0).contains(&c.height) && (0.0..=1.0).contains(&c.bias));
-        prop_assert!(c.core >= 0.0 && c.slope >= 0.0 && c.center.is_finite());
+        prop_assert!((0.0..=1.0).contains(&c.shape.height) && (0.0..=1.0).contains(&c.shape.bias));
+        prop_assert!(c.shape.core >= 0.0 && c.shape.slope >= 0.0 && c.center.is_finite());
         if a.overlap_level(&b) > 0.0 {
             // Inner envelope: the trapezoid part lies under min(A, B).
-            let tp = Trapezoid { bias: 0.0, ..c };
+            let tp = Trapezoid::raw(c.center, c.shape.core, c.shape.slope, c.shape.height, 0.0);
             for k in 0..2000 {
                 let th = -3.2 + k as f32 * 0.0032;
                 prop_assert!(tp.angular(th) <= a.angular(th).min(b.angular(th)) + 2e-3, "θ={} {:?}", th, c);
             }
-            prop_assert!((c.bias - ba * bb).abs() < 1e-6);
+            prop_assert!((c.shape.bias - ba * bb).abs() < 1e-6);
         } else {
             // Outer envelope: covers max(A, B) (trapezoid parts).
             for k in 0..2000 {
                 let th = -3.2 + k as f32 * 0.0032;
-                let m = Trapezoid { bias: 0.0, ..a }.angular(th).max(Trapezoid { bias: 0.0, ..b }.angular(th));
+                let unbiased = |t: &Trapezoid| Trapezoid::raw(t.center, t.shape.core, t.shape.slope, t.shape.height, 0.0);
+                let m = unbiased(&a).angular(th).max(unbiased(&b).angular(th));
                 prop_assert!(c.angular(th) >= m - 2e-3, "θ={} {:?}", th, c);
             }
-            prop_assert!(c.bias >= ba.max(bb) - 1e-6);
+            prop_assert!(c.shape.bias >= ba.max(bb) - 1e-6);
         }
     }
 }

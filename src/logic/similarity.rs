@@ -1,5 +1,6 @@
-//! The trapezoidal fuzzy set ⟨θ, Δ, α, h, b⟩ of paper 000 (centre, core width, slope, height,
-//! bias), used to compare a measured value with the value a place expects.
+//! The similarity of a measured value with the value a place expects: paper 000's trapezoid
+//! ⟨θ, Δ, α, h, b⟩ ([`crate::core::trapezoid::Trapezoid`], the crate's one) with the centre θ
+//! supplied per comparison, the bias lifting the trapezoid ([`BiasRule::Lifted`]).
 //!
 //! ```text
 //!   h ┤      ┌────Δ────┐
@@ -11,48 +12,85 @@
 //! ```
 //!
 //! `α` is the horizontal run of each slope (the support is `Δ/2 + α` either side of θ); `α = 0`
-//! makes a crisp interval. The bias enters by [`BiasRule::Lifted`] ([`Trapezoid::BIAS_RULE`]);
-//! the grid's angle sets use the floor reading (see [`crate::core::trapezoid`]). The bias `b` is the possibility that the reading is an outlier: a value
-//! far from the expectation keeps possibility `b`, not 0. With a `period` (360 for degrees), the
-//! distance `|x − θ|` is taken around the circle.
+//! makes a crisp interval. The bias `b` is the possibility that the reading is an outlier: a
+//! value far from the expectation keeps possibility `b`, not 0 (the grid's angle sets read the
+//! bias as a floor instead, see [`crate::core::trapezoid`]). What this type adds to the
+//! trapezoid is where the distance `|x − θ|` comes from: with a `period` (360 for degrees) it is
+//! taken around the circle.
 //!
 //! A place may expect a *range* of values rather than one (`lo .. hi`): then the distance is to
 //! the nearest point of the range, `max(0, |x − θ| − w)` with θ its middle and `w` its half
-//! width — the same as a trapezoid whose core is widened by the range ([`Trapezoid::degree_within`]).
+//! width — the same as a trapezoid whose core is widened by the range
+//! ([`Similarity::degree_within`]).
 
-use crate::core::trapezoid::BiasRule;
+use crate::core::trapezoid::{BiasRule, Trapezoid};
 use serde::{Deserialize, Serialize};
 
-/// Shape of a trapezoidal similarity; the centre θ is supplied per comparison.
+/// A trapezoidal similarity; the centre θ is supplied per comparison. Serialized as the flat
+/// `core, slope, height, bias, period` of a rule file's `similarity … = trapezoid(…)`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Trapezoid {
-    /// Δ: width of the core (fully possible values), in the measured value's unit.
-    pub core: f64,
-    /// α: run of each slope, same unit. 0 = crisp edges.
-    pub slope: f64,
-    /// h: height, in `[0, 1]` (default 1).
-    pub height: f64,
-    /// b: bias, in `[0, h]` (default 0).
-    pub bias: f64,
+#[serde(from = "SimilarityWire", into = "SimilarityWire")]
+pub struct Similarity {
+    /// The trapezoid, in the measured value's unit; its rule is [`Similarity::BIAS_RULE`].
+    pub shape: Trapezoid<f64>,
     /// Period for circular quantities (360 for degrees); `None` for linear ones.
     pub period: Option<f64>,
 }
 
-impl Default for Trapezoid {
-    fn default() -> Self {
-        Trapezoid {
-            core: 0.0,
-            slope: 1.0,
-            height: 1.0,
-            bias: 0.0,
-            period: None,
+/// The serialized fields of a [`Similarity`].
+#[derive(Serialize, Deserialize)]
+struct SimilarityWire {
+    core: f64,
+    slope: f64,
+    height: f64,
+    bias: f64,
+    period: Option<f64>,
+}
+
+impl From<SimilarityWire> for Similarity {
+    fn from(w: SimilarityWire) -> Self {
+        Similarity::new(w.core, w.slope, w.height, w.bias, w.period)
+    }
+}
+
+impl From<Similarity> for SimilarityWire {
+    fn from(s: Similarity) -> Self {
+        SimilarityWire {
+            core: s.shape.core,
+            slope: s.shape.slope,
+            height: s.shape.height,
+            bias: s.shape.bias,
+            period: s.period,
         }
     }
 }
 
-impl Trapezoid {
+impl Default for Similarity {
+    /// A crisp point with slopes of 1: core 0, slope 1, height 1, bias 0, linear.
+    fn default() -> Self {
+        Similarity::new(0.0, 1.0, 1.0, 0.0, None)
+    }
+}
+
+impl Similarity {
     /// How the bias enters: `μ = b + (h − b)·f`.
     pub const BIAS_RULE: BiasRule = BiasRule::Lifted;
+
+    /// The similarity of core Δ, slope α, height h, bias b (in the measured value's unit), over
+    /// a circle of `period` when given. Values are taken as given: the rule checker vouches
+    /// for them.
+    pub fn new(core: f64, slope: f64, height: f64, bias: f64, period: Option<f64>) -> Similarity {
+        Similarity {
+            shape: Trapezoid {
+                core,
+                slope,
+                height,
+                bias,
+                rule: Self::BIAS_RULE,
+            },
+            period,
+        }
+    }
 
     /// `μ(x)` for a trapezoid centred on `centre`. NaN or infinite inputs give the bias: a value
     /// that could not be measured is as possible as an outlier, no more.
@@ -62,13 +100,13 @@ impl Trapezoid {
     }
 
     /// `μ(x)` against the range of half width `half` around `centre`: the distance is taken to
-    /// the range's nearest point (`half = 0` is [`Trapezoid::degree`]). A negative or NaN `half`
+    /// the range's nearest point (`half = 0` is [`Similarity::degree`]). A negative or NaN `half`
     /// counts as 0. NaN or infinite inputs give the bias.
     #[inline]
     pub fn degree_within(&self, x: f64, centre: f64, half: f64) -> f64 {
         let mut d = (x - centre).abs();
         if !d.is_finite() {
-            return self.bias;
+            return self.shape.bias;
         }
         if let Some(p) = self.period {
             if p > 0.0 {
@@ -82,15 +120,7 @@ impl Trapezoid {
         if half > 0.0 {
             d = (d - half).max(0.0);
         }
-        let half = 0.5 * self.core;
-        let f = if d <= half {
-            1.0
-        } else if self.slope > 0.0 {
-            (1.0 - (d - half) / self.slope).max(0.0)
-        } else {
-            0.0
-        };
-        Self::BIAS_RULE.apply_f64(f, self.height, self.bias)
+        self.shape.degree_at(d)
     }
 }
 
@@ -102,13 +132,7 @@ mod tests {
     fn hand_worked_points() {
         // core 2 (±1), slope 2, height 1, bias 0.1: at distance 2 we are half way down the slope,
         // f = 0.5, μ = 0.1 + 0.9·0.5 = 0.55; at distance 3 and beyond, μ = b = 0.1.
-        let t = Trapezoid {
-            core: 2.0,
-            slope: 2.0,
-            height: 1.0,
-            bias: 0.1,
-            period: None,
-        };
+        let t = Similarity::new(2.0, 2.0, 1.0, 0.1, None);
         assert_eq!(t.degree(10.0, 10.0), 1.0);
         assert_eq!(t.degree(11.0, 10.0), 1.0);
         assert!((t.degree(12.0, 10.0) - 0.55).abs() < 1e-12);
@@ -121,14 +145,8 @@ mod tests {
         // Range 2 .. 4 (θ = 3, w = 1), core 1 (±0.5), slope 2, bias 0: inside the range and up
         // to 0.5 beyond it μ = 1; at 5.5 we are 1.5 past the range, 1 into the slope: μ = 0.5;
         // the same as a single value with core 1 + 2·1 = 3.
-        let t = Trapezoid {
-            core: 1.0,
-            slope: 2.0,
-            height: 1.0,
-            bias: 0.0,
-            period: None,
-        };
-        let wide = Trapezoid { core: 3.0, ..t };
+        let t = Similarity::new(1.0, 2.0, 1.0, 0.0, None);
+        let wide = Similarity::new(3.0, 2.0, 1.0, 0.0, None);
         for x in [2.0, 3.7, 4.5, 0.5, 5.5, 7.0, 9.0] {
             assert_eq!(t.degree_within(x, 3.0, 1.0), wide.degree(x, 3.0), "x = {x}");
         }
@@ -142,13 +160,7 @@ mod tests {
     #[test]
     fn circular_distance_wraps() {
         // 355° and 5° are 10° apart on the circle: inside a core of width 20.
-        let t = Trapezoid {
-            core: 20.0,
-            slope: 10.0,
-            height: 1.0,
-            bias: 0.0,
-            period: Some(360.0),
-        };
+        let t = Similarity::new(20.0, 10.0, 1.0, 0.0, Some(360.0));
         assert_eq!(t.degree(355.0, 5.0), 1.0);
         // 180° away: beyond the support (10 + 10): bias 0.
         assert_eq!(t.degree(185.0, 5.0), 0.0);
