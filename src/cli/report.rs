@@ -46,11 +46,11 @@ pub struct ReportArgs {
 
 /// Runs `report`.
 pub fn run(args: &ReportArgs, out: &mut impl std::io::Write) -> Result<u8, CliError> {
+    let engine = load_engine(&args.model, &CompileOptions::default())?;
     let cfg = match &args.tracker {
         Some(path) => Some(read_tracker(path)?),
-        None => (!args.no_track).then(TrackerConfig::default),
+        None => (!args.no_track).then(|| engine.tracker_config()),
     };
-    let engine = load_engine(&args.model, &CompileOptions::default())?;
     let map = engine.map().clone();
     let mut pages = Vec::new();
     let mut rejected = 0;

@@ -26,6 +26,8 @@ use crate::syntax::ast::*;
 use crate::syntax::diagnostic::{Diagnostic, DiagnosticKind, KeySuffix, NeverFiresReason};
 use crate::syntax::span::{Span, Spanned};
 use crate::syntax::suggest::suggest;
+
+use super::tracker::{check_tracker, TrackerSettings};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Names that rule files may not declare as domains.
@@ -84,6 +86,9 @@ pub struct RuleSet {
     /// (one that no place defines is an error): [`check_map_against_rules`] names the places
     /// that lack one.
     pub params: BTreeSet<(String, Option<String>)>,
+    /// The file's `tracker { … }` block, checked, if it has one: the tracker settings used
+    /// when no tracker file is given.
+    pub tracker: Option<TrackerSettings>,
 }
 
 impl RuleSet {
@@ -120,6 +125,7 @@ pub fn check_rules(file: &RuleFile, map: &Map) -> Result<RuleSet, Vec<Diagnostic
             regions: Vec::new(),
             groups: Vec::new(),
             params: BTreeSet::new(),
+            tracker: None,
         },
         domain_spans: BTreeMap::new(),
         grounded: 0,
@@ -398,6 +404,7 @@ impl Checker<'_> {
     /// it is unknown as well).
     fn logic_domains_similarities(&mut self, file: &RuleFile) -> BTreeMap<String, Span> {
         let mut logic_seen: Option<Span> = None;
+        let mut tracker_seen: Option<Span> = None;
         let mut sim_spans: BTreeMap<String, Span> = BTreeMap::new();
         for item in &file.items {
             match item {
@@ -418,6 +425,22 @@ impl Checker<'_> {
                         self.logic(l);
                     }
                 }
+                RuleItem::Tracker(t) => match &self.set.tracker {
+                    Some(_) => self.diags.push(
+                        Diagnostic::error(
+                            DiagnosticKind::DuplicateName {
+                                what: "tracker block",
+                                name: "tracker".into(),
+                            },
+                            t.span,
+                        )
+                        .with_related(tracker_seen.unwrap_or(t.span), "first defined here"),
+                    ),
+                    None => {
+                        tracker_seen = Some(t.span);
+                        self.set.tracker = Some(check_tracker(t, &mut self.diags));
+                    }
+                },
                 RuleItem::Domain(d) => self.domain(d),
                 RuleItem::Similarity(s) => {
                     if let Some(first) = sim_spans.get(&s.name.node) {

@@ -230,7 +230,7 @@ impl Survey {
         frames: &[FrameRecord],
         truth: Truth<'_>,
         protocol: Protocol,
-        tracker: &TrackerConfig,
+        tracker: Option<&TrackerConfig>,
     ) -> Result<SurveyOutcome, SurveyError> {
         let labels = match truth {
             Truth::Records => frames
@@ -274,7 +274,7 @@ impl Survey {
     fn held_out(
         &self,
         map: &SourceFile,
-        tracker: &TrackerConfig,
+        tracker: Option<&TrackerConfig>,
         frames: &[FrameRecord],
         labels: &[Option<String>],
     ) -> Result<Score, SurveyError> {
@@ -286,7 +286,9 @@ impl Survey {
             .enumerate()
             .map(|(k, p)| (p.name.clone(), k))
             .collect();
-        let mut run = StreamRun::new(engine, Some(*tracker));
+        // Without a tracker file, the rule file's `tracker { … }` block (or the defaults).
+        let tracker = tracker.copied().unwrap_or_else(|| engine.tracker_config());
+        let mut run = StreamRun::new(engine, Some(tracker));
         let visit = visits(frames, labels, self.cfg.visit_gap_m);
         let decisions = decide_all(&mut run, frames);
         let truth: Vec<Option<usize>> = labels
@@ -381,7 +383,7 @@ mod tests {
             &[at(0.0)],
             Truth::Records,
             Protocol::All,
-            &TrackerConfig::default(),
+            Some(&TrackerConfig::default()),
         );
         assert_eq!(
             got,
