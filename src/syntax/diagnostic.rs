@@ -628,7 +628,7 @@ impl DiagnosticKind {
                 "tnorm: min|product|lukasiewicz; implication: residuum|min_mp; normalisation, fusion: min|product; threshold, margin: numbers in [0, 1]"
             }
             K::UnknownTrackerSetting { .. } => {
-                "tracker settings are the fields of a tracker file (docs/languages.md); cell_size, margin, flank, flank_per_metre, floor, evidence_length_m and evidence_max_weight go in `grid { … }`"
+                "the keys are the fields of a tracker file (docs/languages.md); the grid's go in `grid { … }`"
             }
             K::BadTrackerValue { .. } => {
                 "supports and floors are in [0, 1], lengths are ≥ 0, cell_size is > 0; tnorm: min|product|lukasiewicz; normalisation: min|product; use_heading: true|false"
