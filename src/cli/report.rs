@@ -30,7 +30,8 @@ pub struct ReportArgs {
     #[arg(value_name = "RUN")]
     pub runs: Vec<PathBuf>,
     /// Tracker parameters (a RON file such as config/intel-tracker.ron, whose metric grid
-    /// tracker adds belief pictures to the page); fields left out take the defaults.
+    /// tracker adds belief pictures to the page); fields left out take the defaults. Default:
+    /// the rule file's `tracker { … }` block, else the built-in defaults.
     #[arg(long, value_name = "RON")]
     pub tracker: Option<PathBuf>,
     /// Decide each frame on its own evidence, without tracking.

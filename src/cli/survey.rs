@@ -48,7 +48,8 @@ pub struct SurveyArgs {
     /// Write the map here instead of stdout.
     #[arg(short = 'o', long = "output", value_name = "OUT")]
     pub output: Option<PathBuf>,
-    /// Tracker parameters (RON) for the held-out score of --fit first-visits.
+    /// Tracker parameters (RON) for the held-out score of --fit first-visits. Default: the rule
+    /// file's `tracker { … }` block, else the built-in defaults.
     #[arg(long, value_name = "CONFIG")]
     pub tracker: Option<PathBuf>,
     /// Quantiles of each place's readings that bound its expected range.

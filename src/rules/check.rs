@@ -20,14 +20,13 @@
 //!   `at_place`/`in_room`) that no firing rule concludes — is an error: it is dead code that
 //!   usually hides a misspelt head.
 
+use super::tracker::{check_tracker, TrackerSettings};
 use crate::logic::{Fusion, Implication, LogicConfig, Normalisation, TNorm, Trapezoid};
 use crate::map::Map;
 use crate::syntax::ast::*;
 use crate::syntax::diagnostic::{Diagnostic, DiagnosticKind, KeySuffix, NeverFiresReason};
 use crate::syntax::span::{Span, Spanned};
 use crate::syntax::suggest::suggest;
-
-use super::tracker::{check_tracker, TrackerSettings};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Names that rule files may not declare as domains.
@@ -425,8 +424,8 @@ impl Checker<'_> {
                         self.logic(l);
                     }
                 }
-                RuleItem::Tracker(t) => match &self.set.tracker {
-                    Some(_) => self.diags.push(
+                RuleItem::Tracker(t) => match tracker_seen {
+                    Some(first) => self.diags.push(
                         Diagnostic::error(
                             DiagnosticKind::DuplicateName {
                                 what: "tracker block",
@@ -434,7 +433,7 @@ impl Checker<'_> {
                             },
                             t.span,
                         )
-                        .with_related(tracker_seen.unwrap_or(t.span), "first defined here"),
+                        .with_related(first, "first defined here"),
                     ),
                     None => {
                         tracker_seen = Some(t.span);

@@ -217,9 +217,9 @@ impl Survey {
     }
 
     /// Fits the places of `frames` under `protocol` and writes them into the map text; with
-    /// [`Protocol::FirstVisits`], also runs the engine and `tracker` over every frame with the
-    /// written map and scores the later visits (the tracker sees the whole run, as it would
-    /// live).
+    /// [`Protocol::FirstVisits`], also runs the engine and `tracker` (without one, the rule
+    /// file's `tracker { … }` block or the defaults) over every frame with the written map and
+    /// scores the later visits (the tracker sees the whole run, as it would live).
     ///
     /// # Errors
     /// [`SurveyError::NothingToFit`] when no rule links a percept with a place parameter;
