@@ -242,7 +242,8 @@ def extract(
     Args:
         log: the CARMEN text log (FLASER, ODOM, PARAM lines).
         map: a ``.map`` whose place extents give each frame's true place.
-        config: the extractor parameters (RON file); built-in defaults without it.
+        config: the extractor parameters (RON file); without it the travelling settings of
+            ``lplace extract`` without ``--config`` (compass on; the map's ``axis`` gives the axis).
         out: write the stream to this file instead of returning its lines.
 
     MRCLAM directories (``--from mrclam``) are not wrapped yet.

@@ -25,8 +25,9 @@ pub(crate) fn extract_carmen<'py>(
     config: Option<&str>,
     out: Option<std::path::PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let cfg = match config {
-        None => ExtractConfig::default(),
+    let mut cfg = match config {
+        // As `lplace extract` without `--config`.
+        None => ExtractConfig::travelling(),
         Some(text) => {
             ExtractConfig::from_ron(text).map_err(|e| PyValueError::new_err(e.to_string()))?
         }
@@ -43,6 +44,10 @@ pub(crate) fn extract_carmen<'py>(
             Some(Map::from_ast(&ast).map_err(render)?)
         }
     };
+    // As `lplace extract`: the map's `axis` statement is the building's axis.
+    if let Some(axis) = map.as_ref().and_then(Map::axis_deg) {
+        cfg.compass.axis_deg = axis;
+    }
     let file = std::fs::File::open(&log)?;
     let mut framer = CarmenFramer::new(cfg, map.as_ref().map(Map::places))
         .map_err(|e| PyValueError::new_err(e.to_string()))?;

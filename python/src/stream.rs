@@ -146,13 +146,18 @@ fn open_input(
     }
 }
 
-/// The tracker configuration from RON text; `track = False` turns tracking off.
-fn tracker_config(track: bool, ron: Option<&str>) -> PyResult<Option<TrackerConfig>> {
+/// The tracker configuration from RON text, else the rule file's `tracker { … }` block (or
+/// the defaults), as `lplace eval`; `track = False` turns tracking off.
+fn tracker_config(
+    track: bool,
+    ron: Option<&str>,
+    engine: &lplace::engine::Engine,
+) -> PyResult<Option<TrackerConfig>> {
     if !track {
         return Ok(None);
     }
     match ron {
-        None => Ok(Some(TrackerConfig::default())),
+        None => Ok(Some(engine.tracker_config())),
         Some(text) => TrackerConfig::from_ron(text)
             .map(Some)
             .map_err(|e| PyValueError::new_err(e.to_string())),
@@ -176,7 +181,10 @@ pub(crate) fn evaluate_columns<'py>(
     read_ahead: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (input, format) = open_input(path, data, format)?;
-    let mut run = StreamRun::new(engine.engine.clone(), tracker_config(track, tracker)?);
+    let mut run = StreamRun::new(
+        engine.engine.clone(),
+        tracker_config(track, tracker, &engine.engine)?,
+    );
     let reader = StreamReader::new(input, run.schema(), format);
     let threads = if read_ahead {
         Threads::available()
@@ -239,7 +247,10 @@ impl StreamBatches {
         tracker: Option<&str>,
     ) -> PyResult<Self> {
         let (input, format) = open_input(path, data, format)?;
-        let run = StreamRun::new(engine.engine.clone(), tracker_config(track, tracker)?);
+        let run = StreamRun::new(
+            engine.engine.clone(),
+            tracker_config(track, tracker, &engine.engine)?,
+        );
         let reader = StreamReader::new(input, run.schema(), format);
         let frame = Frame::new(reader.schema().slots());
         Ok(StreamBatches {

@@ -133,15 +133,16 @@ pub(crate) fn survey_run<'py>(
     } else {
         Protocol::All
     };
+    // Without one, the rule file's `tracker { … }` block (or the defaults), as `lplace survey`.
     let tracker = match tracker {
-        None => TrackerConfig::default(),
+        None => None,
         Some(text) => {
-            TrackerConfig::from_ron(text).map_err(|e| PyValueError::new_err(e.to_string()))?
+            Some(TrackerConfig::from_ron(text).map_err(|e| PyValueError::new_err(e.to_string()))?)
         }
     };
     let truth = labels.as_deref().map_or(Truth::Records, Truth::Labels);
     let outcome = py
-        .allow_threads(|| survey.run(&records.frames, truth, protocol, &tracker))
+        .allow_threads(|| survey.run(&records.frames, truth, protocol, tracker.as_ref()))
         .map_err(|e| survey_error(py, &map_name, e))?;
     let d = PyDict::new(py);
     d.set_item("map_text", &outcome.map_text)?;

@@ -235,7 +235,8 @@ pub struct EvalArgs {
     #[arg(long)]
     pub no_track: bool,
     /// Tracker parameters: a RON file such as config/intel-tracker.ron (which tracks on a
-    /// metric grid); fields left out take the defaults given in the README.
+    /// metric grid); fields left out take the defaults given in the README. Default: the rule
+    /// file's `tracker { … }` block, else the built-in defaults.
     #[arg(long, value_name = "RON")]
     pub tracker: Option<PathBuf>,
     /// Draw the run (per place Π and N over frames, chosen place, truth) as SVG.
@@ -352,7 +353,9 @@ pub struct ExtractArgs {
     /// statement, if any, replaces the config's `compass.axis_deg`.
     #[arg(long, value_name = "MAP")]
     pub map: Option<PathBuf>,
-    /// Extractor parameters (RON; see `percept::ExtractConfig`). Default: built-in defaults.
+    /// Extractor parameters (RON; see `percept::ExtractConfig`). Default: the travelling
+    /// settings (`ExtractConfig::travelling`: compass on, eight directions, the initial heading
+    /// from the first scan's odometry), which need no file per building.
     #[arg(long, value_name = "CONFIG")]
     pub config: Option<PathBuf>,
     /// rosbag2: the LaserScan topic (default: the bag's one LaserScan topic).

@@ -194,10 +194,11 @@ fn resolve_queries(
     Ok(out)
 }
 
-/// Reads the tracker configuration named by `--tracker` (defaults without it).
-fn tracker_config(args: &EvalArgs) -> Result<TrackerConfig, CliError> {
+/// Reads the tracker configuration named by `--tracker`; without it, the rule file's
+/// `tracker { … }` block or the defaults ([`Engine::tracker_config`]).
+fn tracker_config(args: &EvalArgs, engine: &Engine) -> Result<TrackerConfig, CliError> {
     let Some(path) = &args.tracker else {
-        return Ok(TrackerConfig::default());
+        return Ok(engine.tracker_config());
     };
     let text = std::fs::read_to_string(path).map_err(|source| CliError::Read {
         path: path.display().to_string(),
@@ -698,7 +699,7 @@ fn run_stream(args: &EvalArgs, out: &mut impl Write) -> Result<u8, CliError> {
 /// Loads the engine and, unless `--no-track`, the tracker for a stream run.
 pub(super) fn new_run(args: &EvalArgs) -> Result<StreamRun, CliError> {
     let engine = load_engine(&args.model, &CompileOptions::default())?;
-    let cfg = tracker_config(args)?;
+    let cfg = tracker_config(args, &engine)?;
     Ok(StreamRun::new(engine, (!args.no_track).then_some(cfg)))
 }
 

@@ -67,10 +67,11 @@ pub fn run(args: &ExtractArgs, out: &mut impl Write) -> Result<u8, CliError> {
     })
 }
 
-/// The extractor parameters of `--config`, or the defaults.
+/// The extractor parameters of `--config`, or the travelling ones
+/// ([`ExtractConfig::travelling`]: no building's own settings, the map gives the axis).
 pub(super) fn load_config(args: &ExtractArgs) -> Result<ExtractConfig, CliError> {
     match &args.config {
-        None => Ok(ExtractConfig::default()),
+        None => Ok(ExtractConfig::travelling()),
         Some(path) => {
             let src = read_source(path)?;
             ExtractConfig::from_ron(&src.text).map_err(|e| {

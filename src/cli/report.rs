@@ -30,7 +30,8 @@ pub struct ReportArgs {
     #[arg(value_name = "RUN")]
     pub runs: Vec<PathBuf>,
     /// Tracker parameters (a RON file such as config/intel-tracker.ron, whose metric grid
-    /// tracker adds belief pictures to the page); fields left out take the defaults.
+    /// tracker adds belief pictures to the page); fields left out take the defaults. Default:
+    /// the rule file's `tracker { … }` block, else the built-in defaults.
     #[arg(long, value_name = "RON")]
     pub tracker: Option<PathBuf>,
     /// Decide each frame on its own evidence, without tracking.
@@ -46,11 +47,11 @@ pub struct ReportArgs {
 
 /// Runs `report`.
 pub fn run(args: &ReportArgs, out: &mut impl std::io::Write) -> Result<u8, CliError> {
+    let engine = load_engine(&args.model, &CompileOptions::default())?;
     let cfg = match &args.tracker {
         Some(path) => Some(read_tracker(path)?),
-        None => (!args.no_track).then(TrackerConfig::default),
+        None => (!args.no_track).then(|| engine.tracker_config()),
     };
-    let engine = load_engine(&args.model, &CompileOptions::default())?;
     let map = engine.map().clone();
     let mut pages = Vec::new();
     let mut rejected = 0;

@@ -51,7 +51,8 @@ pub struct SurveyArgs {
     /// Write the map here instead of stdout.
     #[arg(short = 'o', long = "output", value_name = "OUT")]
     pub output: Option<PathBuf>,
-    /// Tracker parameters (RON) for the held-out score of --fit first-visits.
+    /// Tracker parameters (RON) for the held-out score of --fit first-visits. Default: the rule
+    /// file's `tracker { … }` block, else the built-in defaults.
     #[arg(long, value_name = "CONFIG")]
     pub tracker: Option<PathBuf>,
     /// Quantiles of each place's readings that bound its expected range.
@@ -103,11 +104,11 @@ pub fn run(args: &SurveyArgs, out: &mut impl Write) -> Result<u8, CliError> {
     };
     // The tracker only scores first visits: a file given with `--fit all` is not read.
     let tracker = match protocol {
-        Protocol::All => TrackerConfig::default(),
+        Protocol::All => None,
         Protocol::FirstVisits => tracker_config(args.tracker.as_ref())?,
     };
     let outcome = survey
-        .run(&records.frames, truth, protocol, &tracker)
+        .run(&records.frames, truth, protocol, tracker.as_ref())
         .map_err(|e| fail(&map_name, e))?;
     for row in &outcome.report {
         eprintln!("survey: {row}");
@@ -178,12 +179,14 @@ fn read_labels(path: &Path) -> Result<Vec<LabelRow>, CliError> {
     })
 }
 
-fn tracker_config(path: Option<&PathBuf>) -> Result<TrackerConfig, CliError> {
+/// The `--tracker` file, if given (without it the rule file's `tracker { … }` block, or the
+/// defaults, track the held-out visits).
+fn tracker_config(path: Option<&PathBuf>) -> Result<Option<TrackerConfig>, CliError> {
     let Some(path) = path else {
-        return Ok(TrackerConfig::default());
+        return Ok(None);
     };
     let src = read_source(path)?;
-    TrackerConfig::from_ron(&src.text).map_err(|e| {
+    TrackerConfig::from_ron(&src.text).map(Some).map_err(|e| {
         eprintln!("error: {}: {e}", src.name);
         CliError::Diagnostics { count: 1 }
     })

@@ -32,6 +32,7 @@ pub mod outcome;
 pub mod query;
 pub mod tape;
 pub mod tracker;
+mod tracker_block;
 
 pub use compile::{compile, CompileOptions, Compiled, Contribution, GroundAtom, SetHead};
 pub use frame::{Frame, PerceptInstance, PerceptSlot, PerceptTable};
@@ -215,6 +216,15 @@ impl Engine {
     /// The checked rule set.
     pub fn rules(&self) -> &RuleSet {
         &self.rules
+    }
+
+    /// The tracker settings of the rule file's `tracker { … }` block, or the defaults: what
+    /// tracks a run when no tracker file is given.
+    pub fn tracker_config(&self) -> tracker::TrackerConfig {
+        self.rules.tracker.as_ref().map_or_else(
+            tracker::TrackerConfig::default,
+            tracker::TrackerConfig::from_settings,
+        )
     }
 
     /// The compiled form.

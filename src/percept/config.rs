@@ -70,6 +70,23 @@ pub struct ExtractConfig {
 }
 
 impl ExtractConfig {
+    /// The settings `lplace extract` uses without `--config`: the defaults with the compass on
+    /// (eight directions, each the longest of a 10° fan, the drift of the heading lock
+    /// corrected at gain 0.5) and the initial heading taken from the first scan's odometry —
+    /// nothing of one building, so that a new building needs only its map (whose `axis`
+    /// statement gives the axis) and its log. `default()` keeps the compass off: it is what
+    /// every field left out of a RON file falls back to.
+    pub fn travelling() -> Self {
+        let mut cfg = ExtractConfig::default();
+        let c = &mut cfg.compass;
+        c.enabled = true;
+        c.drift_gain = 0.5;
+        c.directions = 8;
+        c.fan_deg = 10.0;
+        c.fan_step_deg = 5.0;
+        cfg
+    }
+
     /// Parses RON text; absent fields take their defaults. Validates.
     ///
     /// # Errors
@@ -155,6 +172,21 @@ mod tests {
         assert_eq!(
             ExtractConfig::from_ron(&text).unwrap(),
             ExtractConfig::default()
+        );
+    }
+
+    #[test]
+    fn travelling_settings_are_valid_and_differ_from_the_defaults_only_in_the_compass() {
+        let t = ExtractConfig::travelling();
+        t.validate().unwrap();
+        assert!(t.compass.enabled && t.compass.initial_heading_deg.is_none());
+        let d = ExtractConfig::default();
+        assert_eq!(
+            ExtractConfig {
+                compass: d.compass,
+                ..t
+            },
+            d
         );
     }
 

@@ -20,6 +20,7 @@
 //!   `at_place`/`in_room`) that no firing rule concludes — is an error: it is dead code that
 //!   usually hides a misspelt head.
 
+use super::tracker::{check_tracker, TrackerSettings};
 use crate::logic::{Fusion, Implication, LogicConfig, Normalisation, Similarity, TNorm};
 use crate::map::Map;
 use crate::syntax::ast::*;
@@ -84,6 +85,9 @@ pub struct RuleSet {
     /// (one that no place defines is an error): [`check_map_against_rules`] names the places
     /// that lack one.
     pub params: BTreeSet<(String, Option<String>)>,
+    /// The file's `tracker { … }` block, checked, if it has one: the tracker settings used
+    /// when no tracker file is given.
+    pub tracker: Option<TrackerSettings>,
 }
 
 impl RuleSet {
@@ -145,6 +149,7 @@ impl<'m> Checker<'m> {
                 regions: Vec::new(),
                 groups: Vec::new(),
                 params: BTreeSet::new(),
+                tracker: None,
             },
             domain_spans: BTreeMap::new(),
             grounded: 0,
@@ -419,6 +424,7 @@ impl Checker<'_> {
     /// it is unknown as well).
     fn logic_domains_similarities(&mut self, file: &RuleFile) -> BTreeMap<String, Span> {
         let mut logic_seen: Option<Span> = None;
+        let mut tracker_seen: Option<Span> = None;
         let mut sim_spans: BTreeMap<String, Span> = BTreeMap::new();
         for item in &file.items {
             match item {
@@ -439,6 +445,22 @@ impl Checker<'_> {
                         self.logic(l);
                     }
                 }
+                RuleItem::Tracker(t) => match tracker_seen {
+                    Some(first) => self.diags.push(
+                        Diagnostic::error(
+                            DiagnosticKind::DuplicateName {
+                                what: "tracker block",
+                                name: "tracker".into(),
+                            },
+                            t.span,
+                        )
+                        .with_related(first, "first defined here"),
+                    ),
+                    None => {
+                        tracker_seen = Some(t.span);
+                        self.set.tracker = Some(check_tracker(t, &mut self.diags));
+                    }
+                },
                 RuleItem::Domain(d) => self.domain(d),
                 RuleItem::Similarity(s) => {
                     if let Some(first) = sim_spans.get(&s.name.node) {

@@ -6,8 +6,10 @@
 //! checked rule set. It may depend on `core`, `logic`, `syntax` and `map`.
 
 mod check;
+mod tracker;
 
 pub use check::{
     check_declarations, check_map_against_rules, check_rules, is_place_head, RuleSet, Signature,
     MAX_GROUND_INSTANCES,
 };
+pub use tracker::{TrackerSettings, TrackerValue, GRID_KEYS, TRACKER_KEYS};

@@ -286,9 +286,9 @@ impl Survey {
     }
 
     /// Fits the places of `frames` under `protocol` and writes them into the map text; with
-    /// [`Protocol::FirstVisits`], also runs the engine and `tracker` over every frame with the
-    /// written map and scores the later visits (the tracker sees the whole run, as it would
-    /// live).
+    /// [`Protocol::FirstVisits`], also runs the engine and `tracker` (without one, the rule
+    /// file's `tracker { … }` block or the defaults) over every frame with the written map and
+    /// scores the later visits (the tracker sees the whole run, as it would live).
     ///
     /// # Errors
     /// [`SurveyError::NothingToFit`] when no rule links a percept with a place parameter;
@@ -299,7 +299,7 @@ impl Survey {
         frames: &[FrameRecord],
         truth: Truth<'_>,
         protocol: Protocol,
-        tracker: &TrackerConfig,
+        tracker: Option<&TrackerConfig>,
     ) -> Result<SurveyOutcome, SurveyError> {
         let labels = match truth {
             Truth::Records => frames
@@ -343,7 +343,7 @@ impl Survey {
     fn held_out(
         &self,
         map: &SourceFile,
-        tracker: &TrackerConfig,
+        tracker: Option<&TrackerConfig>,
         frames: &[FrameRecord],
         labels: &[Option<String>],
     ) -> Result<Score, SurveyError> {
@@ -355,7 +355,9 @@ impl Survey {
             .enumerate()
             .map(|(k, p)| (p.name.clone(), k))
             .collect();
-        let mut run = StreamRun::new(engine, Some(*tracker));
+        // Without a tracker file, the rule file's `tracker { … }` block (or the defaults).
+        let tracker = tracker.copied().unwrap_or_else(|| engine.tracker_config());
+        let mut run = StreamRun::new(engine, Some(tracker));
         let visit = visits(frames, labels, self.cfg.visit_gap_m);
         let decisions = decide_all(&mut run, frames);
         let truth: Vec<Option<usize>> = labels
@@ -504,7 +506,7 @@ mod tests {
             &[at(0.0)],
             Truth::Records,
             Protocol::All,
-            &TrackerConfig::default(),
+            Some(&TrackerConfig::default()),
         );
         assert_eq!(
             got,

@@ -47,6 +47,8 @@ pub struct RuleFile {
 pub enum RuleItem {
     /// `logic { key = value; … }`
     Logic(LogicBlock),
+    /// `tracker { key = value; … grid { key = value; … } }`
+    Tracker(TrackerBlock),
     /// `domain Dir = {North, East, South, West};`
     Domain(DomainDecl),
     /// `similarity name = trapezoid(core: …, slope: …, height: …, bias: …);`
@@ -104,7 +106,19 @@ pub struct LogicBlock {
     pub span: Span,
 }
 
-/// `key = value;` inside a `logic` block.
+/// `tracker { … }`: the tracker settings that go with this kind of sensor, used when no tracker
+/// file is given. The keys are checked by `rules`, not by the grammar.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrackerBlock {
+    /// The settings outside `grid { … }`, in source order.
+    pub settings: Vec<Setting>,
+    /// Each `grid { … }` block (more than one is a checker error): its settings and span.
+    pub grids: Vec<(Vec<Setting>, Span)>,
+    /// The whole block.
+    pub span: Span,
+}
+
+/// `key = value;` inside a `logic` or `tracker` block.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Setting {
     /// The key (`tnorm`, `implication`, `normalisation`, `threshold`, `margin`).

@@ -311,6 +311,20 @@ pub enum DiagnosticKind {
         /// What it accepts.
         expected: &'static str,
     },
+    /// A key that `tracker { … }` (or its `grid { … }`) does not know.
+    #[error("unknown tracker setting `{key}`")]
+    UnknownTrackerSetting {
+        /// The key.
+        key: String,
+    },
+    /// A tracker setting given a value of the wrong kind or out of range.
+    #[error("bad value for tracker setting `{key}`: expected {expected}")]
+    BadTrackerValue {
+        /// The key.
+        key: String,
+        /// What it accepts.
+        expected: &'static str,
+    },
     /// A similarity shape other than `trapezoid`.
     #[error("unknown similarity shape `{name}`")]
     UnknownShape {
@@ -612,6 +626,12 @@ impl DiagnosticKind {
             K::UnknownSetting { .. } => "settings are tnorm, implication, normalisation, fusion, threshold and margin",
             K::BadSettingValue { .. } => {
                 "tnorm: min|product|lukasiewicz; implication: residuum|min_mp; normalisation, fusion: min|product; threshold, margin: numbers in [0, 1]"
+            }
+            K::UnknownTrackerSetting { .. } => {
+                "the keys are the fields of a tracker file (docs/languages.md); the grid's go in `grid { … }`"
+            }
+            K::BadTrackerValue { .. } => {
+                "supports and floors are in [0, 1], lengths are ≥ 0, cell_size is > 0; tnorm: min|product|lukasiewicz; normalisation: min|product; use_heading: true|false"
             }
             K::UnknownShape { .. } => "the only similarity shape is `trapezoid`",
             K::UnknownField { .. } => "trapezoid fields are core, slope, height, bias and period",

@@ -121,6 +121,7 @@ impl Builder<'_> {
         let mut it = p.into_inner();
         match kind {
             R::logic_block => self.logic_block(it, span).map(RuleItem::Logic),
+            R::tracker_block => self.tracker_block(it, span).map(RuleItem::Tracker),
             R::domain_decl => {
                 it.next(); // keyword
                 let name = self.next(&mut it, span, "domain without name")?;
@@ -142,24 +143,54 @@ impl Builder<'_> {
 
     /// The settings of a `logic { … }` block.
     fn logic_block(&mut self, it: Pairs<'_, R>, span: Span) -> Option<LogicBlock> {
-        let mut settings = Vec::new();
-        for s in it.filter(|s| s.as_rule() == R::setting) {
-            let sspan = self.span(&s);
-            let mut si = s.into_inner();
-            let key = self.next(&mut si, sspan, "setting without key")?;
-            let value = self.next(&mut si, sspan, "setting without value")?;
-            let vspan = self.span(&value);
-            let v = if value.as_rule() == R::number {
-                SettingValue::Number(self.number(&value).node)
-            } else {
-                SettingValue::Word(value.as_str().to_string())
-            };
-            settings.push(Setting {
-                key: self.ident(&key),
-                value: Spanned::new(v, vspan),
-            });
-        }
+        let settings = self.settings(it)?;
         Some(LogicBlock { settings, span })
+    }
+
+    /// The settings of a `tracker { … }` block and of its `grid { … }` blocks.
+    fn tracker_block(&mut self, it: Pairs<'_, R>, span: Span) -> Option<TrackerBlock> {
+        let mut grids = Vec::new();
+        let mut settings = Vec::new();
+        for p in it {
+            match p.as_rule() {
+                R::setting => settings.push(self.setting(p)?),
+                R::grid_settings => {
+                    let gspan = self.span(&p);
+                    grids.push((self.settings(p.into_inner())?, gspan));
+                }
+                _ => {}
+            }
+        }
+        Some(TrackerBlock {
+            settings,
+            grids,
+            span,
+        })
+    }
+
+    /// The `key = value;` pairs among `it`.
+    fn settings(&mut self, it: Pairs<'_, R>) -> Option<Vec<Setting>> {
+        it.filter(|s| s.as_rule() == R::setting)
+            .map(|s| self.setting(s))
+            .collect()
+    }
+
+    /// One `key = value;`.
+    fn setting(&mut self, s: Pair<'_, R>) -> Option<Setting> {
+        let sspan = self.span(&s);
+        let mut si = s.into_inner();
+        let key = self.next(&mut si, sspan, "setting without key")?;
+        let value = self.next(&mut si, sspan, "setting without value")?;
+        let vspan = self.span(&value);
+        let v = if value.as_rule() == R::number {
+            SettingValue::Number(self.number(&value).node)
+        } else {
+            SettingValue::Word(value.as_str().to_string())
+        };
+        Some(Setting {
+            key: self.ident(&key),
+            value: Spanned::new(v, vspan),
+        })
     }
 
     /// A `similarity NAME = SHAPE(field: value, …)` declaration.

@@ -614,3 +614,117 @@ fn frame_is_validated_as_a_stream_record_is() {
     assert_eq!(eval_stdout(&["--frame".as_ref(), spread.as_ref()]), one);
     lplace().args(["eval", "--frame", " \n "]).assert().code(2);
 }
+
+/// A CARMEN log of a robot driving East along the middle of a 6 m × 4 m room with its walls on
+/// the map's axes: 181 beams over 180°, each the distance to the first wall along its ray.
+fn room_log() -> String {
+    let mut log = String::new();
+    for k in 0..20 {
+        let (x, t) = (-1.0 + 0.1 * k as f64, k as f64 * 0.5);
+        let ranges: Vec<String> = (0..181)
+            .map(|i| {
+                let a = (-90.0 + i as f64).to_radians();
+                let (c, s) = (a.cos(), a.sin());
+                let tx = if c > 1e-9 {
+                    (3.0 - x) / c
+                } else if c < -1e-9 {
+                    (-3.0 - x) / c
+                } else {
+                    f64::INFINITY
+                };
+                let ty = if s > 1e-9 {
+                    2.0 / s
+                } else if s < -1e-9 {
+                    -2.0 / s
+                } else {
+                    f64::INFINITY
+                };
+                format!("{:.3}", tx.min(ty))
+            })
+            .collect();
+        log += &format!(
+            "FLASER 181 {} {x} 0 0 {x} 0 0 {t} host {t}\n",
+            ranges.join(" ")
+        );
+    }
+    log
+}
+
+/// The percept names of `extract`'s frames.
+fn extracted_percepts(extra: &[&std::ffi::OsStr]) -> Vec<String> {
+    let log = temp("room.log", &room_log());
+    let out = lplace()
+        .args(["extract", "--from", "carmen"])
+        .arg(&log)
+        .args(extra)
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).expect("utf-8");
+    let frames: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON line"))
+        .collect();
+    assert_eq!(frames.len(), 20);
+    frames
+        .iter()
+        .flat_map(|f| f["percepts"].as_array().cloned().unwrap_or_default())
+        .filter_map(|p| p["name"].as_str().map(str::to_string))
+        .collect()
+}
+
+/// Without `--config`, `extract` draws the compass free ranges a new building's rules read
+/// (issue 17: the map and the log are a building's only inputs); a config file that leaves the
+/// compass at its default (off) draws none, so the free ranges come from the travelling
+/// settings, not from the log alone.
+#[test]
+fn extract_without_a_config_draws_free_ranges() {
+    let names = extracted_percepts(&[]);
+    assert!(names.iter().any(|n| n == "free_range"), "{names:?}");
+    let empty = temp("empty-config.ron", "()\n");
+    let names = extracted_percepts(&["--config".as_ref(), empty.as_os_str()]);
+    assert!(names.iter().all(|n| n != "free_range"), "{names:?}");
+}
+
+/// A rule file's `tracker { … }` block tracks the run when no `--tracker` is given, exactly as a
+/// tracker file with the same settings does; and it is read at all: the run differs from the
+/// one with the defaults (the office rules carry no block).
+#[test]
+fn a_rule_files_tracker_block_equals_the_same_tracker_file() {
+    let office = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("rules/office.lpl"),
+    )
+    .expect("bundled rules");
+    let block = "tracker {\n    bias = 0.3;\n    tnorm = min;\n    min_support = 0.6;\n    conflict = 0.5;\n}\n";
+    let rules = temp("tracked.lpl", &(office + block));
+    let ron = temp(
+        "tracked.ron",
+        "(bias: 0.3, tnorm: min, min_support: 0.6, conflict: 0.5)\n",
+    );
+    let run = |rules: &std::path::Path, tracker: Option<&std::path::Path>| {
+        let mut cmd = lplace();
+        cmd.args(["eval", "--map", "maps/office.map", "--rules"])
+            .arg(rules);
+        if let Some(t) = tracker {
+            cmd.arg("--tracker").arg(t);
+        }
+        let out = cmd.output().expect("runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        out.stdout
+    };
+    let office_rules = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("rules/office.lpl");
+    let with_block = run(&rules, None);
+    assert_eq!(with_block, run(&office_rules, Some(&ron)));
+    assert_ne!(with_block, run(&office_rules, None));
+    // `--tracker` overrides the block: a file of defaults gives the run without the block.
+    let defaults = temp("defaults.ron", "()\n");
+    assert_eq!(run(&rules, Some(&defaults)), run(&office_rules, None));
+}

@@ -12,7 +12,7 @@ use crate::support::{data_dir, lplace};
 use std::path::PathBuf;
 
 /// The figures of one `eval --summary json` run.
-#[derive(Debug)]
+#[derive(Debug, PartialEq)]
 struct Figures {
     frames: f64,
     decided: f64,
@@ -107,7 +107,20 @@ fn intel_lab_accuracy_is_locked_in() {
         ],
     );
     eprintln!("trajectory picture: {}", picture.display());
-    let graph = eval(&stream, &[]);
+    // The rule file's `tracker` block is the grid's (as the file above): the graph tracker is
+    // asked for with a tracker file of defaults.
+    let defaults = tmp.join("default-tracker.ron");
+    std::fs::write(&defaults, "()\n").expect("the temporary directory is writable");
+    let graph = eval(
+        &stream,
+        &["--tracker", defaults.to_str().expect("a UTF-8 path")],
+    );
+    // Without --tracker: the rule file's block, the same settings as config/intel-tracker.ron.
+    let block = eval(&stream, &[]);
+    assert_eq!(
+        block, grid,
+        "the rules' tracker block equals config/intel-tracker.ron"
+    );
     let single = eval(&stream, &["--no-track"]);
 
     // The map's boxes hold all but 3 of the 910 scans.

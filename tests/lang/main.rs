@@ -12,3 +12,4 @@ mod syntax_examples;
 mod syntax_grammar;
 mod syntax_no_panic;
 mod syntax_suggest;
+mod syntax_tracker;

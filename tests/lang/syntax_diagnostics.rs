@@ -133,6 +133,10 @@ const CASES: &[(&str, &[Expected])] = &[
     ("unknown_room.lpl", &[("UnknownRoom", 1, 29)]),
     ("unknown_setting.lpl", &[("UnknownSetting", 3, 5)]),
     ("unknown_similarity.lpl", &[("UnknownSimilarity", 1, 45)]),
+    (
+        "unknown_tracker_setting.lpl",
+        &[("UnknownTrackerSetting", 4, 5)],
+    ),
 ];
 
 #[test]
