@@ -1059,7 +1059,18 @@ mod tests {
 
     #[test]
     fn a_window_found_from_its_cursor_is_the_window_searched_afresh() {
-        let text = crate::sim::large_map::lattice_office(400, 1);
+        // A 20 × 20 lattice 3 m apart, joined east and north: rows of a few hundred pairs.
+        let mut text = String::new();
+        for k in 0..400 {
+            let (x, y) = (3 * (k % 20), 3 * (k / 20));
+            text += &format!("place P{k} corridor at ({x}, {y}) extent radius 1;\n");
+            if k % 20 != 19 {
+                text += &format!("path P{k} -- P{};\n", k + 1);
+            }
+            if k + 20 < 400 {
+                text += &format!("path P{k} -- P{};\n", k + 20);
+            }
+        }
         let map = Map::from_ast(&parse_map(&text).unwrap()).unwrap();
         let gates = Gates::new(&map, &TrackerConfig::default());
         let mut rng = crate::core::rng::SplitMix64::new(7);
