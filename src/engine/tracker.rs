@@ -568,7 +568,8 @@ impl Gates {
         let lengths = &self.length[row.clone()];
         let near = |x: f64| x * (1.0 + 1e-6) + 1e-6;
         let far = |x: f64| x * (1.0 - 1e-6) - 1e-6;
-        if !(s >= cur.s) {
+        // A smaller distance (or a NaN on either side) drops the cursor.
+        if !s.partial_cmp(&cur.s).is_some_and(|o| o.is_ge()) {
             *cur = Cursor::default();
         }
         cur.s = s;
