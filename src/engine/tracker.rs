@@ -402,6 +402,8 @@ pub struct Tracker {
     reach: Vec<f64>,
     /// Per row, the pairs of `reach` filled this step (`R_ij = 0` outside; see the blur).
     window: Vec<(usize, usize)>,
+    /// Per row, where its path-gate window was last found ([`Gates::window`]).
+    cursor: Vec<Cursor>,
     /// Distance moved whose evidence has not been taken yet, metres; `None` before the first
     /// frame (see [`TrackerConfig::evidence_length_m`]). Not part of [`TrackerState`]: after a
     /// restore the first frame's evidence is taken whole.
@@ -546,7 +548,14 @@ impl Gates {
     /// With `a = tolerance_rel + slope_rel` and `c = tolerance + slope`, that is `L(1 − a) ≤ s + c`
     /// and `L(1 + a) ≥ s − c`, both monotone in `L`, hence a window of the sorted row. A NaN
     /// (an unvalidated config) keeps the whole row.
-    fn window(&self, i: usize, s: f64) -> std::ops::Range<usize> {
+    ///
+    /// Both ends are found from `cur`, the window of the row at an earlier distance: each end's
+    /// test holds on a prefix of the row that only grows with `s`, so an end found at a smaller
+    /// `s` is a valid start for the search at `s` — usually a step or two forward (`s_i` grows
+    /// by a frame's move), instead of two binary searches per live anchor and frame. A cursor
+    /// from a larger `s` (a re-anchored place) is dropped. The result is exactly the window a
+    /// search of the whole row finds.
+    fn window(&self, i: usize, s: f64, cur: &mut Cursor) -> std::ops::Range<usize> {
         if self.bound.get(i).is_some_and(|&b| s > b) {
             return 0..0;
         }
@@ -559,13 +568,19 @@ impl Gates {
         let lengths = &self.length[row.clone()];
         let near = |x: f64| x * (1.0 + 1e-6) + 1e-6;
         let far = |x: f64| x * (1.0 - 1e-6) - 1e-6;
-        let lo = lengths.partition_point(|&l| near(l * (1.0 + a)) < s - c);
+        // A smaller distance (or a NaN on either side) drops the cursor.
+        if !s.partial_cmp(&cur.s).is_some_and(|o| o.is_ge()) {
+            *cur = Cursor::default();
+        }
+        cur.s = s;
+        advance(lengths, &mut cur.lo, |l| near(l * (1.0 + a)) < s - c);
         let hi = if a < 1.0 {
-            lengths.partition_point(|&l| far(l * (1.0 - a)) <= s + c)
+            advance(lengths, &mut cur.hi, |l| far(l * (1.0 - a)) <= s + c);
+            cur.hi.at
         } else {
             lengths.len()
         };
-        row.start + lo..row.start + hi.max(lo)
+        row.start + cur.lo.at..row.start + hi.max(cur.lo.at)
     }
 
     /// The path-gate view of the pairs in `range`.
@@ -602,6 +617,60 @@ impl Gates {
             *o = shape.degree(gap, 0.0);
         }
     }
+}
+
+/// Where a row's path-gate window ended at distance `s` ([`Gates::window`]), relative to the
+/// row's start; the default (distance 0, both ends at the start) is valid for every distance.
+#[derive(Debug, Clone, Copy, Default)]
+struct Cursor {
+    s: f64,
+    lo: End,
+    hi: End,
+}
+
+/// One end of a window: its index in the row, and the length found there (+∞ past the row's
+/// end), kept beside it so that an end that does not move costs no read of the row — the rows
+/// are the tracker's largest array, and most ends stay put from one frame to the next.
+#[derive(Debug, Clone, Copy)]
+struct End {
+    at: usize,
+    next: f64,
+}
+
+impl Default for End {
+    /// The start of the row, its length not yet read (−∞ passes every test, so it is read).
+    fn default() -> End {
+        End {
+            at: 0,
+            next: f64::NEG_INFINITY,
+        }
+    }
+}
+
+/// Moves `end` to the first index of `xs` where `holds` fails, `holds` being true on a prefix of
+/// `xs` that contains `..end.at`: a few steps forward, then a binary search of the rest — the
+/// index [`slice::partition_point`] finds on the whole of `xs`.
+fn advance(xs: &[f64], end: &mut End, holds: impl Fn(f64) -> bool) {
+    if !holds(end.next) {
+        return;
+    }
+    let mut k = end.at.min(xs.len());
+    let mut steps = 0;
+    while let Some(&x) = xs.get(k) {
+        if !holds(x) {
+            break;
+        }
+        k += 1;
+        steps += 1;
+        if steps == 8 {
+            k += xs
+                .get(k..)
+                .map_or(0, |rest| rest.partition_point(|&x| holds(x)));
+            break;
+        }
+    }
+    end.at = k;
+    end.next = xs.get(k).copied().unwrap_or(f64::INFINITY);
 }
 
 /// The displacement gate `s` metres after its anchor: full match within `tolerance_d +
@@ -650,6 +719,7 @@ impl Tracker {
             pred: vec![1.0; n],
             reach: vec![0.0; pairs],
             window: vec![(0, 0); n],
+            cursor: vec![Cursor::default(); n],
             pending_evidence: None,
             evid: vec![0.0; n],
             agree: vec![0.0; n],
@@ -804,7 +874,7 @@ impl Tracker {
                     range
                 }
                 None => {
-                    let range = self.gates.window(i, s);
+                    let range = self.gates.window(i, s, &mut self.cursor[i]);
                     let out = &mut self.reach[range.clone()];
                     self.gates.pairs(range.clone()).fill(s, out);
                     range
@@ -972,6 +1042,55 @@ mod tests {
             t.step(&ev, go, None);
         }
         t.distribution().possibility[1]
+    }
+
+    /// The window of row `i` at `s` by two binary searches of the whole row.
+    fn searched(gates: &Gates, i: usize, s: f64) -> std::ops::Range<usize> {
+        let row = gates.row(i);
+        if s > gates.bound[i] {
+            return 0..0;
+        }
+        let [tol, tol_rel, slope, slope_rel] = gates.shape;
+        let (a, c) = (tol_rel + slope_rel, tol + slope);
+        let lengths = &gates.length[row.clone()];
+        let lo = lengths.partition_point(|&l| l * (1.0 + a) * (1.0 + 1e-6) + 1e-6 < s - c);
+        let hi = lengths.partition_point(|&l| l * (1.0 - a) * (1.0 - 1e-6) - 1e-6 <= s + c);
+        row.start + lo..row.start + hi.max(lo)
+    }
+
+    #[test]
+    fn a_window_found_from_its_cursor_is_the_window_searched_afresh() {
+        // A 20 × 20 lattice 3 m apart, joined east and north: rows of a few hundred pairs.
+        let mut text = String::new();
+        for k in 0..400 {
+            let (x, y) = (3 * (k % 20), 3 * (k / 20));
+            text += &format!("place P{k} corridor at ({x}, {y}) extent radius 1;\n");
+            if k % 20 != 19 {
+                text += &format!("path P{k} -- P{};\n", k + 1);
+            }
+            if k + 20 < 400 {
+                text += &format!("path P{k} -- P{};\n", k + 20);
+            }
+        }
+        let map = Map::from_ast(&parse_map(&text).unwrap()).unwrap();
+        let gates = Gates::new(&map, &TrackerConfig::default());
+        let mut rng = crate::core::rng::SplitMix64::new(7);
+        for i in [0, 37, 210, 399] {
+            let (mut cur, mut s, mut moved) = (Cursor::default(), 0.0, 0);
+            for _ in 0..2000 {
+                // Mostly small moves, now and then a jump forward or a re-anchoring.
+                s = match rng.unit() {
+                    u if u < 0.02 => 0.0,
+                    u if u < 0.05 => s + 40.0 * rng.unit(),
+                    _ => s + 0.4 * rng.unit(),
+                };
+                let fresh = searched(&gates, i, s);
+                let from = gates.window(i, s, &mut cur);
+                assert_eq!(from, fresh, "row {i} at s = {s}");
+                moved += usize::from(!fresh.is_empty());
+            }
+            assert!(moved > 100, "row {i}: the windows were mostly empty");
+        }
     }
 
     #[test]
