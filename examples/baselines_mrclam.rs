@@ -9,6 +9,9 @@
 //!
 //! `cargo run --release --example baselines_mrclam [1-5] [seed]`
 
+#[path = "support/mrclam.rs"]
+mod support;
+
 use lplace::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
 use lplace::grid::place::survey_landmarks;
 use lplace::grid::{GridConfig, LandmarkTable};
@@ -19,13 +22,6 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 type Res<T> = Result<T, Box<dyn std::error::Error>>;
-
-fn data_dir() -> PathBuf {
-    match std::env::var_os("LPLACE_DATA") {
-        Some(d) => PathBuf::from(d).join("mrclam-dataset7"),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mrclam-dataset7"),
-    }
-}
 
 fn load(dir: &Path, robot: u32) -> Res<(LandmarkTable, Vec<MetricFrame>)> {
     let data = mrclam_dir::load(dir, &[robot])?;
@@ -78,14 +74,9 @@ fn both<L: Localizer>(
 }
 
 fn main() -> Res<()> {
-    let dir = data_dir();
-    if !dir.join("Barcodes.dat").exists() {
-        println!(
-            "MRCLAM dataset 7 not found at {} — set LPLACE_DATA; skipping.",
-            dir.display()
-        );
+    let Some(dir) = support::dataset7() else {
         return Ok(());
-    }
+    };
     let robots: Vec<u32> = match std::env::args().nth(1).as_deref() {
         None => (1..=5).collect(),
         Some(s) => match s.split_once('-') {

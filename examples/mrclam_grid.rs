@@ -13,6 +13,9 @@
 //!
 //! `cargo run --release --example mrclam_grid [config/grid-mrclam.ron] [--diagnose DIR]`
 
+#[path = "support/mrclam.rs"]
+mod support;
+
 use lplace::core::angle::wrap_pi_f32 as wrap_pi;
 use lplace::grid::place::survey_landmarks;
 use lplace::grid::{GridConfig, GridError, LandmarkTable, Motion, Observation};
@@ -23,13 +26,6 @@ use lplace::localize::{
 };
 use std::io::Write;
 use std::path::{Path, PathBuf};
-
-fn data_dir() -> PathBuf {
-    match std::env::var_os("LPLACE_DATA") {
-        Some(d) => PathBuf::from(d).join("mrclam-dataset7"),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mrclam-dataset7"),
-    }
-}
 
 fn load(
     dir: &std::path::Path,
@@ -145,14 +141,9 @@ fn diagnose(
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let dir = data_dir();
-    if !dir.join("Barcodes.dat").exists() {
-        println!(
-            "MRCLAM dataset 7 not found at {} — set LPLACE_DATA; skipping.",
-            dir.display()
-        );
+    let Some(dir) = support::dataset7() else {
         return Ok(());
-    }
+    };
     let mut args = std::env::args().skip(1);
     let (mut cfg_path, mut diag_dir) = (None, None);
     while let Some(a) = args.next() {

@@ -8,20 +8,15 @@
 //! `config/grid-mrclam.ron`, robots 1–5). Data: `$LPLACE_DATA/mrclam-dataset7` or
 //! `../shared/data/mrclam-dataset7` relative to the crate root.
 
+#[path = "support/mrclam.rs"]
+mod support;
+
 use lplace::grid::place::survey_landmarks;
 use lplace::grid::{GridConfig, LandmarkTable};
 use lplace::io::mrclam_dir;
 use lplace::localize::grid::run;
 use lplace::localize::robust::{jitter_landmarks, nudged_configs};
 use lplace::localize::{MetricFrame, RunOptions};
-use std::path::PathBuf;
-
-fn data_dir() -> PathBuf {
-    match std::env::var_os("LPLACE_DATA") {
-        Some(d) => PathBuf::from(d).join("mrclam-dataset7"),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mrclam-dataset7"),
-    }
-}
 
 type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;
 
@@ -31,14 +26,9 @@ fn ate(table: &LandmarkTable, cfg: &GridConfig, frames: &[MetricFrame]) -> Resul
 }
 
 fn main() -> Result<()> {
-    let dir = data_dir();
-    if !dir.join("Barcodes.dat").exists() {
-        println!(
-            "MRCLAM dataset 7 not found at {} — skipping.",
-            dir.display()
-        );
+    let Some(dir) = support::dataset7() else {
         return Ok(());
-    }
+    };
     let mut args = std::env::args().skip(1);
     let cfg_path = args
         .next()

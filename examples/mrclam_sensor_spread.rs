@@ -24,17 +24,12 @@
 //! `cargo run --release --example mrclam_sensor_spread [ROBOT]` (default robot 1). Data:
 //! `$LPLACE_DATA/mrclam-dataset7` or `../shared/data/mrclam-dataset7` relative to the crate root.
 
+#[path = "support/mrclam.rs"]
+mod support;
+
 use lplace::core::angle::wrap_pi;
 use lplace::grid::place::survey_landmarks;
 use lplace::io::mrclam_dir;
-use std::path::PathBuf;
-
-fn data_dir() -> PathBuf {
-    match std::env::var_os("LPLACE_DATA") {
-        Some(d) => PathBuf::from(d).join("mrclam-dataset7"),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mrclam-dataset7"),
-    }
-}
 
 /// The `q`-quantile of sorted values (nearest rank).
 fn quantile(sorted: &[f64], q: f64) -> f64 {
@@ -94,14 +89,9 @@ fn model(core: f64, slope: f64, bias: f64, relative: bool) -> String {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let dir = data_dir();
-    if !dir.join("Barcodes.dat").exists() {
-        println!(
-            "MRCLAM dataset 7 not found at {} — set LPLACE_DATA; skipping.",
-            dir.display()
-        );
+    let Some(dir) = support::dataset7() else {
         return Ok(());
-    }
+    };
     let robot: u32 = match std::env::args().nth(1) {
         Some(a) => a.parse()?,
         None => 1,
