@@ -537,4 +537,67 @@ mod tests {
         assert_eq!(early.ate_from(12.0), a.into());
         assert_eq!(early.ate_from(15.0), None);
     }
+
+    /// Records what the driver feeds it.
+    #[derive(Default)]
+    struct Recorder {
+        fed: Vec<(Odometry, f64)>,
+    }
+
+    impl Localizer for Recorder {
+        type Error = crate::grid::GridError;
+        fn predict(&mut self, odometry: &Odometry, dt: f64) -> Result<(), Self::Error> {
+            self.fed.push((*odometry, dt));
+            Ok(())
+        }
+        fn observe(&mut self, _: &LandmarkTable, _: &Observation) -> Result<(), Self::Error> {
+            Ok(())
+        }
+        fn estimate(&mut self) -> PoseEstimate {
+            PoseEstimate {
+                pose: Pose2::default(),
+                reliability: 0.0,
+                heading_reliability: 0.0,
+            }
+        }
+        fn fix_reliability(&self) -> f32 {
+            1.0
+        }
+    }
+
+    #[test]
+    fn the_driver_rounds_the_increment_to_single_precision_once() {
+        let table = LandmarkTable::new(Vec::new()).unwrap();
+        let frame = MetricFrame {
+            t: 0.0,
+            dt: 0.1,
+            odometry: Odometry {
+                forward: 0.1,
+                left: -0.3,
+                turn: 0.7,
+            },
+            observations: Vec::new(),
+            truth: None,
+        };
+        let mut loc = Recorder::default();
+        Drive::new(&table, RunOptions::default()).step(&mut loc, &frame);
+        let no_odometry = RunOptions {
+            use_odometry: false,
+            ..RunOptions::default()
+        };
+        Drive::new(&table, no_odometry).step(&mut loc, &frame);
+        let rounded = Odometry {
+            forward: 0.1f32 as f64,
+            left: -0.3f32 as f64,
+            turn: 0.7f32 as f64,
+        };
+        assert_ne!(rounded.forward, 0.1);
+        assert_eq!(
+            loc.fed,
+            vec![
+                (rounded, 0.1f32 as f64),
+                (Odometry::default(), 0.1f32 as f64)
+            ]
+        );
+    }
 }

@@ -75,6 +75,24 @@ fn motion_model_by_hand() {
 }
 
 #[test]
+fn motion_beyond_single_precision_is_rejected() {
+    // Finite in f64 but not in the single precision the metric methods share: rejected as the
+    // grid rejects it, leaving the particles where they were.
+    let mut pf = ParticleFilter::new(&table(), &PfConfig::default(), BOUNDS, 5).unwrap();
+    let before: Vec<_> = pf.particles().collect();
+    let far = Odometry {
+        forward: 1e39,
+        left: 0.0,
+        turn: 0.0,
+    };
+    let r = pf.predict(&far, 0.1);
+    assert!(
+        matches!(r, Err(BaselineError::Grid(GridError::BadMotion { forward, .. })) if forward == 1e39)
+    );
+    assert_eq!(before, pf.particles().collect::<Vec<_>>());
+}
+
+#[test]
 fn noise_free_prediction_is_the_motion_model() {
     let cfg = PfConfig {
         particles: 50,
