@@ -52,7 +52,7 @@ use crate::grid::{FuzzyGrid, GridConfig, GridError, LandmarkTable, Observation};
 pub struct GridLocalizer {
     grid: FuzzyGrid,
     /// Odometry composed since the grid last applied its pending motion (robot frame at the
-    /// start): forward, lateral, turn.
+    /// start): forward, left, turn.
     moved: [f32; 3],
 }
 
