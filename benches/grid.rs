@@ -26,7 +26,8 @@
 
 use criterion::{black_box, criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
 use lplace::core::angle::wrap_pi_f32 as wrap_pi;
-use lplace::grid::{Dilation, FuzzyGrid, GridConfig, Motion, Trapezoid};
+use lplace::core::Odometry;
+use lplace::grid::{Dilation, FuzzyGrid, GridConfig, Trapezoid};
 
 fn empty(nx: usize, ny: usize) -> FuzzyGrid {
     let s = 0.1;
@@ -173,12 +174,14 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 k = k.wrapping_add(1);
                 let turn = if k % 2 == 0 { 0.05 } else { -0.05 };
-                g.predict(&Motion {
-                    forward: 0.05,
-                    lateral: 0.0,
-                    turn,
-                    dt: 0.2,
-                })
+                g.predict(
+                    &Odometry {
+                        forward: 0.05,
+                        left: 0.0,
+                        turn,
+                    },
+                    0.2,
+                )
                 .unwrap();
                 g.update_range_bearing(0.5 * w, 0.5 * h, 0.3 * w.min(h), 0.2)
                     .unwrap();

@@ -17,8 +17,9 @@
 mod support;
 
 use lplace::core::angle::wrap_pi_f32 as wrap_pi;
+use lplace::core::Odometry;
 use lplace::grid::place::survey_landmarks;
-use lplace::grid::{GridConfig, GridError, LandmarkTable, Motion, Observation};
+use lplace::grid::{GridConfig, GridError, LandmarkTable, Observation};
 use lplace::io::mrclam_dir;
 use lplace::localize::grid::{run, GridLocalizer};
 use lplace::localize::{
@@ -48,9 +49,9 @@ struct Spy {
 
 impl Localizer for Spy {
     type Error = GridError;
-    fn predict(&mut self, m: &Motion) -> Result<(), GridError> {
+    fn predict(&mut self, odometry: &Odometry, dt: f64) -> Result<(), GridError> {
         self.fed.clear();
-        self.grid.predict(m)
+        self.grid.predict(odometry, dt)
     }
     fn observe(&mut self, t: &LandmarkTable, o: &Observation) -> Result<(), GridError> {
         self.grid.observe(t, o)?;

@@ -5,7 +5,7 @@
 //!
 //! This module owns the error type shared by the two methods and the input checks every
 //! [`crate::localize::Localizer`] must make (a rejected input leaves the belief unchanged). It
-//! may depend on `grid` (reading, motion and landmark types; the grid stage of R-MCL),
+//! may depend on `grid` (reading and landmark types, the motion check; the grid stage of R-MCL),
 //! `localize` (the trait) and `core::rng` (the seeded generator); it never does I/O.
 //!
 //! # Complexity
@@ -16,13 +16,14 @@
 //!
 //! ```
 //! use lplace::baseline::{ParticleFilter, PfConfig};
-//! use lplace::grid::{Landmark, LandmarkTable, Motion};
+//! use lplace::core::Odometry;
+//! use lplace::grid::{Landmark, LandmarkTable};
 //! use lplace::localize::Localizer;
 //! let table = LandmarkTable::new(vec![Landmark { id: 1, x: 0.0, y: 0.0 }]).unwrap();
 //! let mut pf = ParticleFilter::new(&table, &PfConfig::default(), [-2.0, -2.0, 2.0, 2.0], 7)?;
 //! // A NaN motion is rejected, not absorbed.
-//! let bad = Motion { forward: f32::NAN, lateral: 0.0, turn: 0.0, dt: 0.1 };
-//! assert!(pf.predict(&bad).is_err());
+//! let bad = Odometry { forward: f64::NAN, left: 0.0, turn: 0.0 };
+//! assert!(pf.predict(&bad, 0.1).is_err());
 //! # Ok::<(), lplace::baseline::BaselineError>(())
 //! ```
 
@@ -32,7 +33,8 @@ pub mod rmcl;
 pub use pf::{ParticleFilter, PfConfig};
 pub use rmcl::{FuzzyRmcl, RmclConfig};
 
-use crate::grid::{GridError, LandmarkTable, Motion, Observation};
+use crate::core::Odometry;
+use crate::grid::{GridError, LandmarkTable, Observation};
 
 /// Everything a baseline rejects. Variants carry the offending data; nothing here panics.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -59,7 +61,7 @@ pub enum BaselineError {
     #[error("bad bounds {0:?}: need finite x_min < x_max, y_min < y_max")]
     BadBounds([f32; 4]),
     /// A rejected reading or motion — the input checks every localizer shares
-    /// ([`Observation::check`], [`Motion::check`], an unknown landmark) — or an error of
+    /// ([`Observation::check`], [`crate::grid::check_motion`], an unknown landmark) — or an error of
     /// R-MCL's grid stage.
     #[error("{0}")]
     Grid(#[from] GridError),
@@ -73,9 +75,9 @@ pub(crate) fn check_bounds(b: [f32; 4]) -> Result<(), BaselineError> {
     Ok(())
 }
 
-/// Checks a motion increment: finite, `dt ≥ 0` ([`Motion::check`]).
-pub(crate) fn check_motion(m: &Motion) -> Result<(), BaselineError> {
-    Ok(m.check()?)
+/// Checks an odometry increment and its elapsed time ([`crate::grid::check_motion`]).
+pub(crate) fn check_motion(odometry: &Odometry, dt: f64) -> Result<(), BaselineError> {
+    Ok(crate::grid::check_motion(odometry, dt)?)
 }
 
 /// A checked reading: landmark position and the finite, non-negative values.

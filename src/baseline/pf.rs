@@ -5,9 +5,9 @@
 //! **Motion (paper 004 eqs. 1–5).** The paper integrates wheel travel: `Δθ = (Δs_R − Δs_L)/L`
 //! (eq. 2), `Δs = (Δs_R + Δs_L)/2` (eq. 3), `Δx = Δs·cos(θ + Δθ/2)`, `Δy = Δs·sin(θ + Δθ/2)`
 //! (eqs. 4–5), added to the old pose (eq. 1). Our frames carry the increment already in the
-//! robot frame at the start of the interval, `Motion { forward, lateral, turn }`. Eqs. 4–5 say the
+//! robot frame at the start of the interval, `Odometry { forward, left, turn }`. Eqs. 4–5 say the
 //! displacement in that frame is `Δs·(cos Δθ/2, sin Δθ/2)`, so we read the paper's quantities off
-//! the increment as `Δs = hypot(forward, lateral)`, chord angle `φ = atan2(lateral, forward)`
+//! the increment as `Δs = hypot(forward, left)`, chord angle `φ = atan2(left, forward)`
 //! (= Δθ/2 for wheel odometry) and `Δθ = turn`, and apply `Δx = Δs·cos(θ + φ)`,
 //! `Δy = Δs·sin(θ + φ)`, `θ += Δθ` ([`apply_motion`]). For wheel-derived increments
 //! ([`wheel_increment`], eqs. 2–3) this is exactly eqs. 4–5; for increments with a lateral part
@@ -84,8 +84,8 @@
 use super::Reading;
 use super::{check_bounds, check_motion, check_observation, ron_error, wrap, BaselineError};
 use crate::core::rng::SplitMix64;
-use crate::core::Pose2;
-use crate::grid::{LandmarkTable, Motion, Observation};
+use crate::core::{Odometry, Pose2};
+use crate::grid::{LandmarkTable, Observation};
 use crate::localize::{Localizer, PoseEstimate};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -257,47 +257,45 @@ impl PfConfig {
 
 /// Eqs. 2–3 of paper 004: the robot-frame increment of wheel travels `ds_left`, `ds_right` (m)
 /// on a track of width `track` (m), with the displacement along the chord of eqs. 4–5:
-/// `forward = Δs·cos(Δθ/2)`, `lateral = Δs·sin(Δθ/2)`, `turn = Δθ`. `dt` is left 0.
+/// `forward = Δs·cos(Δθ/2)`, `left = Δs·sin(Δθ/2)`, `turn = Δθ`.
 ///
 /// # Example
 /// ```
 /// use lplace::baseline::pf::wheel_increment;
 /// // Both wheels 0.1 m: straight ahead.
 /// let m = wheel_increment(0.1, 0.1, 0.053);
-/// assert_eq!((m.forward, m.lateral, m.turn), (0.1, 0.0, 0.0));
+/// assert_eq!((m.forward, m.left, m.turn), (0.1, 0.0, 0.0));
 /// ```
-pub fn wheel_increment(ds_left: f64, ds_right: f64, track: f64) -> Motion {
+pub fn wheel_increment(ds_left: f64, ds_right: f64, track: f64) -> Odometry {
     let dtheta = (ds_right - ds_left) / track; // eq. 2
     let ds = 0.5 * (ds_right + ds_left); // eq. 3
-    Motion {
-        forward: (ds * (0.5 * dtheta).cos()) as f32,
-        lateral: (ds * (0.5 * dtheta).sin()) as f32,
-        turn: dtheta as f32,
-        dt: 0.0,
+    Odometry {
+        forward: ds * (0.5 * dtheta).cos(),
+        left: ds * (0.5 * dtheta).sin(),
+        turn: dtheta,
     }
 }
 
 /// Eqs. 1, 4, 5 of paper 004 on a robot-frame increment (noise-free; see the module docs for the
-/// mapping): `Δs = hypot(forward, lateral)`, `φ = atan2(lateral, forward)`,
+/// mapping): `Δs = hypot(forward, left)`, `φ = atan2(left, forward)`,
 /// `x += Δs·cos(θ + φ)`, `y += Δs·sin(θ + φ)`, `θ ← wrap(θ + turn)`.
 ///
 /// # Example
 /// ```
 /// use lplace::baseline::pf::apply_motion;
-/// use lplace::grid::Motion;
-/// use lplace::core::Pose2;
+/// use lplace::core::{Odometry, Pose2};
 /// let p = apply_motion(Pose2 { x: 0.0, y: 0.0, theta: std::f64::consts::FRAC_PI_2 },
-///                      &Motion { forward: 1.0, lateral: 0.0, turn: 0.0, dt: 0.0 });
+///                      &Odometry { forward: 1.0, left: 0.0, turn: 0.0 });
 /// assert!(p.x.abs() < 1e-7 && (p.y - 1.0).abs() < 1e-7);
 /// ```
-pub fn apply_motion(p: Pose2, m: &Motion) -> Pose2 {
-    let (f, l) = (m.forward as f64, m.lateral as f64);
+pub fn apply_motion(p: Pose2, odometry: &Odometry) -> Pose2 {
+    let (f, l) = (odometry.forward, odometry.left);
     let ds = f.hypot(l);
     let phi = l.atan2(f);
     Pose2 {
         x: p.x + ds * (p.theta + phi).cos(),
         y: p.y + ds * (p.theta + phi).sin(),
-        theta: wrap(p.theta + m.turn as f64),
+        theta: wrap(p.theta + odometry.turn),
     }
 }
 
@@ -553,16 +551,16 @@ impl ParticleFilter {
 impl Localizer for ParticleFilter {
     type Error = BaselineError;
 
-    fn predict(&mut self, m: &Motion) -> Result<(), BaselineError> {
-        check_motion(m)?;
-        let (f, l) = (m.forward as f64, m.lateral as f64);
+    fn predict(&mut self, odometry: &Odometry, dt: f64) -> Result<(), BaselineError> {
+        check_motion(odometry, dt)?;
+        let (f, l) = (odometry.forward, odometry.left);
         let ds = f.hypot(l);
         let phi = l.atan2(f);
-        let turn = m.turn as f64;
+        let turn = odometry.turn;
         let c = &self.cfg;
         let sig_s = c.trans_per_m * ds + c.trans_per_rad * turn.abs();
         let sig_t = c.rot_per_rad * turn.abs() + c.rot_per_m * ds;
-        let sdt = (m.dt as f64).sqrt();
+        let sdt = dt.sqrt();
         let (sig_xy, sig_th) = (c.xy_per_sqrt_s * sdt, c.theta_per_sqrt_s * sdt);
         for i in 0..self.x.len() {
             let ds_i = ds + sig_s * self.rng.normal();

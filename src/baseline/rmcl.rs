@@ -75,8 +75,8 @@
 use super::Reading;
 use super::{check_bounds, check_motion, check_observation, ron_error, wrap, BaselineError};
 use crate::core::rng::SplitMix64;
-use crate::core::Pose2;
-use crate::grid::{GridConfig, LandmarkTable, Motion, Observation, Trapezoid};
+use crate::core::{Odometry, Pose2};
+use crate::grid::{GridConfig, LandmarkTable, Observation, Trapezoid};
 use crate::localize::grid::GridLocalizer;
 use crate::localize::{Localizer, PoseEstimate};
 use serde::{Deserialize, Serialize};
@@ -336,10 +336,10 @@ impl FuzzyRmcl {
 impl Localizer for FuzzyRmcl {
     type Error = BaselineError;
 
-    fn predict(&mut self, m: &Motion) -> Result<(), BaselineError> {
-        check_motion(m)?;
-        self.grid.predict(m)?;
-        let (f, l, turn) = (m.forward as f64, m.lateral as f64, m.turn as f64);
+    fn predict(&mut self, odometry: &Odometry, dt: f64) -> Result<(), BaselineError> {
+        check_motion(odometry, dt)?;
+        self.grid.predict(odometry, dt)?;
+        let (f, l, turn) = (odometry.forward, odometry.left, odometry.turn);
         for (x, y, theta, _) in &mut self.kept {
             let (s, c) = theta.sin_cos();
             *x += c * f - s * l;

@@ -22,4 +22,26 @@ impl Odometry {
     pub fn distance(&self) -> f64 {
         self.forward.hypot(self.left)
     }
+
+    /// The increment with each component rounded to single precision (and back, exactly).
+    ///
+    /// The metric methods share the Fuzzy Position Grid's single precision: the driver rounds
+    /// once, here at the edge, so that the grid, which works in `f32`, and the methods that
+    /// compute in `f64` are fed the very same numbers. A component beyond `f32`'s range becomes
+    /// infinite, which every localizer rejects.
+    ///
+    /// # Example
+    /// ```
+    /// use lplace::core::Odometry;
+    /// let o = Odometry { forward: 0.1, left: 0.0, turn: 1e39 }.to_single_precision();
+    /// assert_eq!(o.forward, 0.1f32 as f64);
+    /// assert!(o.turn.is_infinite());
+    /// ```
+    pub fn to_single_precision(&self) -> Odometry {
+        Odometry {
+            forward: self.forward as f32 as f64,
+            left: self.left as f32 as f64,
+            turn: self.turn as f32 as f64,
+        }
+    }
 }

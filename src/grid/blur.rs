@@ -69,7 +69,8 @@ impl FuzzyGrid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grid::{GridConfig, Motion};
+    use crate::core::Odometry;
+    use crate::grid::GridConfig;
 
     fn grid(blur: Blur) -> FuzzyGrid {
         let cfg = GridConfig {
@@ -90,13 +91,12 @@ mod tests {
     /// Ten steps of 3 cm, each applied: 0.3 m of undirected flank in all.
     fn walk(g: &mut FuzzyGrid) {
         for _ in 0..10 {
-            let m = Motion {
+            let o = Odometry {
                 forward: 0.03,
-                lateral: 0.0,
+                left: 0.0,
                 turn: 0.0,
-                dt: 0.1,
             };
-            g.predict(&m).unwrap();
+            g.predict(&o, 0.1).unwrap();
             g.apply_pending();
         }
     }

@@ -9,7 +9,7 @@
 //! place decision to a pose. Driving the grid over a recorded stream and
 //! scoring it is the job of `localize`, a layer above.
 //!
-//! May depend on: `core` (angle wrapping), `map` (place extents, landmarks);
+//! May depend on: `core` (angle wrapping, the odometry increment), `map` (place extents, landmarks);
 //! besides `serde`/`ron`/`thiserror`. It never does I/O.
 
 pub mod blur;
@@ -32,7 +32,7 @@ pub use config::{Combine, Dilation, ElementShape, GridConfig, SensorModel};
 pub use estimate::Estimate;
 pub use observe::{Landmark, LandmarkTable, Observation};
 pub use place::LandmarkTruth;
-pub use predict::Motion;
+pub use predict::check_motion;
 pub use trapezoid::Trapezoid;
 
 /// Everything that can go wrong in the grid layer. Variants carry the
@@ -88,17 +88,17 @@ pub enum GridError {
     /// The observed landmark is not in the table.
     #[error("unknown landmark {0}")]
     UnknownLandmark(u32),
-    /// A motion increment is NaN or infinite.
-    #[error("non-finite motion increment ({forward}, {lateral}, {turn}, dt {dt})")]
+    /// A motion increment is not finite in single precision, or its elapsed time is negative.
+    #[error("bad motion increment ({forward}, {left}, {turn}, dt {dt})")]
     BadMotion {
-        /// Forward displacement.
-        forward: f32,
-        /// Lateral displacement.
-        lateral: f32,
-        /// Rotation.
-        turn: f32,
-        /// Elapsed time.
-        dt: f32,
+        /// Forward displacement (m).
+        forward: f64,
+        /// Displacement to the left (m).
+        left: f64,
+        /// Rotation (rad).
+        turn: f64,
+        /// Elapsed time (s).
+        dt: f64,
     },
     /// A place-cap region or value is malformed.
     #[error("bad cap region #{index}: {reason}")]

@@ -43,11 +43,12 @@
 //! # Example
 //!
 //! ```
-//! use lplace::grid::{FuzzyGrid, GridConfig, Motion};
+//! use lplace::core::Odometry;
+//! use lplace::grid::{FuzzyGrid, GridConfig};
 //! let mut g = FuzzyGrid::new(GridConfig::default(), [0.0, 0.0, 4.0, 4.0]).unwrap();
 //! g.possibilities_mut().fill(0.0);
 //! g.possibilities_mut()[20 * 40 + 20] = 1.0;
-//! g.predict(&Motion { forward: 1.0, lateral: 0.0, turn: 0.0, dt: 5.0 }).unwrap();
+//! g.predict(&Odometry { forward: 1.0, left: 0.0, turn: 0.0 }, 5.0).unwrap();
 //! g.apply_pending();
 //! // Heading unknown: blurred isotropically, never lowered where it was.
 //! assert_eq!(g.possibility(20, 20), 1.0);
@@ -55,42 +56,38 @@
 //! ```
 
 use super::{FuzzyGrid, GridError};
-use serde::{Deserialize, Serialize};
+use crate::core::Odometry;
 use std::f32::consts::PI;
 
-/// An odometry increment in the robot frame at the start of the interval.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct Motion {
-    /// Displacement along the robot's heading (metres).
-    pub forward: f32,
-    /// Displacement to the robot's left (metres).
-    pub lateral: f32,
-    /// Rotation (radians, CCW).
-    pub turn: f32,
-    /// Elapsed time (seconds, ≥ 0).
-    pub dt: f32,
-}
-
-impl Motion {
-    /// Checks the increment — every value finite, `dt ≥ 0` — as every localizer must before it
-    /// moves its belief.
-    ///
-    /// # Errors
-    /// [`GridError::BadMotion`] carrying the increment.
-    pub fn check(&self) -> Result<(), GridError> {
-        let finite = [self.forward, self.lateral, self.turn, self.dt]
-            .iter()
-            .all(|v| v.is_finite());
-        if finite && self.dt >= 0.0 {
-            Ok(())
-        } else {
-            Err(GridError::BadMotion {
-                forward: self.forward,
-                lateral: self.lateral,
-                turn: self.turn,
-                dt: self.dt,
-            })
-        }
+/// Checks an odometry increment and its elapsed time `dt` (seconds), as every localizer must
+/// before it moves its belief: each value finite at the single precision the metric methods share
+/// (see [`Odometry::to_single_precision`]), and `dt ≥ 0`.
+///
+/// # Errors
+/// [`GridError::BadMotion`] carrying the increment.
+///
+/// # Example
+/// ```
+/// use lplace::core::Odometry;
+/// use lplace::grid::check_motion;
+/// let o = Odometry { forward: 1.0, left: 0.0, turn: 0.1 };
+/// assert!(check_motion(&o, 0.5).is_ok());
+/// assert!(check_motion(&o, -0.5).is_err());
+/// assert!(check_motion(&Odometry { forward: 1e39, ..o }, 0.5).is_err());
+/// ```
+pub fn check_motion(odometry: &Odometry, dt: f64) -> Result<(), GridError> {
+    let finite = [odometry.forward, odometry.left, odometry.turn, dt]
+        .iter()
+        .all(|&v| (v as f32).is_finite());
+    if finite && dt >= 0.0 {
+        Ok(())
+    } else {
+        Err(GridError::BadMotion {
+            forward: odometry.forward,
+            left: odometry.left,
+            turn: odometry.turn,
+            dt,
+        })
     }
 }
 
@@ -115,18 +112,25 @@ pub(crate) struct Pending {
 }
 
 impl FuzzyGrid {
-    /// Accumulates an odometry increment. Rejects non-finite values and
-    /// negative `dt` without changing anything.
-    pub fn predict(&mut self, m: &Motion) -> Result<(), GridError> {
-        m.check()?;
+    /// Accumulates an odometry increment (robot frame at the start of the
+    /// interval) and its elapsed time `dt` (seconds), in the grid's single
+    /// precision. Rejects what [`check_motion`] rejects without changing
+    /// anything.
+    pub fn predict(&mut self, odometry: &Odometry, dt: f64) -> Result<(), GridError> {
+        check_motion(odometry, dt)?;
+        let (forward, left, turn) = (
+            odometry.forward as f32,
+            odometry.left as f32,
+            odometry.turn as f32,
+        );
         let p = &mut self.pending;
         let (s, c) = p.turn.sin_cos();
-        p.px += c * m.forward - s * m.lateral;
-        p.py += s * m.forward + c * m.lateral;
-        p.turn += m.turn;
-        p.dist += m.forward.hypot(m.lateral);
-        p.turned += m.turn.abs();
-        p.dt += m.dt;
+        p.px += c * forward - s * left;
+        p.py += s * forward + c * left;
+        p.turn += turn;
+        p.dist += forward.hypot(left);
+        p.turned += turn.abs();
+        p.dt += dt as f32;
         Ok(())
     }
 

@@ -44,15 +44,15 @@
 
 use super::{drive, Localizer, MetricFrame, PoseEstimate, RunOptions, RunReport};
 use crate::core::angle::wrap_pi_f32;
-use crate::core::Pose2;
-use crate::grid::{FuzzyGrid, GridConfig, GridError, LandmarkTable, Motion, Observation};
+use crate::core::{Odometry, Pose2};
+use crate::grid::{FuzzyGrid, GridConfig, GridError, LandmarkTable, Observation};
 
 /// The Fuzzy Position Grid as a [`Localizer`].
 #[derive(Debug, Clone)]
 pub struct GridLocalizer {
     grid: FuzzyGrid,
     /// Odometry composed since the grid last applied its pending motion (robot frame at the
-    /// start): forward, lateral, turn.
+    /// start): forward, left, turn.
     moved: [f32; 3],
 }
 
@@ -103,13 +103,15 @@ impl GridLocalizer {
 impl Localizer for GridLocalizer {
     type Error = GridError;
 
-    fn predict(&mut self, motion: &Motion) -> Result<(), GridError> {
-        self.grid.predict(motion)?;
+    fn predict(&mut self, odometry: &Odometry, dt: f64) -> Result<(), GridError> {
+        self.grid.predict(odometry, dt)?;
+        // In the grid's single precision, as the grid composes it.
+        let (forward, left) = (odometry.forward as f32, odometry.left as f32);
         let [f, l, t] = &mut self.moved;
         let (s, c) = t.sin_cos();
-        *f += c * motion.forward - s * motion.lateral;
-        *l += s * motion.forward + c * motion.lateral;
-        *t += motion.turn;
+        *f += c * forward - s * left;
+        *l += s * forward + c * left;
+        *t += odometry.turn as f32;
         Ok(())
     }
 
@@ -230,17 +232,17 @@ mod tests {
         // Ten small motions with an estimate after each must leave the grid exactly where the
         // same motions without estimates leave it, also after the next reading.
         let t = table();
-        let step = Motion {
+        let step = Odometry {
             forward: 0.02,
-            lateral: 0.0,
+            left: 0.0,
             turn: 0.01,
-            dt: 0.25,
         };
+        let dt = 0.25;
         let (mut a, mut b) = (localizer(), localizer());
         for _ in 0..10 {
-            a.predict(&step).unwrap();
+            a.predict(&step, dt).unwrap();
             a.estimate();
-            b.predict(&step).unwrap();
+            b.predict(&step, dt).unwrap();
         }
         assert_eq!(a.grid().possibilities(), b.grid().possibilities());
         for o in seen(1.2, 1.0) {
@@ -254,14 +256,14 @@ mod tests {
     #[test]
     fn grid_now_applies_the_pending_motion() {
         let mut g = localizer();
-        let step = Motion {
+        let step = Odometry {
             forward: 0.1,
-            lateral: 0.0,
+            left: 0.0,
             turn: 0.0,
-            dt: 0.25,
         };
+        let dt = 0.25;
         for _ in 0..3 {
-            g.predict(&step).unwrap();
+            g.predict(&step, dt).unwrap();
         }
         let moved = g.estimate();
         let as_last_updated = g.grid().estimate();
@@ -281,14 +283,14 @@ mod tests {
         let mut g = localizer();
         let before = g.estimate();
         assert!(before.heading_reliability >= 0.8, "{before:?}");
-        let step = Motion {
+        let step = Odometry {
             forward: 0.03,
-            lateral: 0.01,
+            left: 0.01,
             turn: 0.0,
-            dt: 0.25,
         };
+        let dt = 0.25;
         for _ in 0..4 {
-            g.predict(&step).unwrap();
+            g.predict(&step, dt).unwrap();
         }
         let after = g.estimate();
         // Robot frame (0.12, 0.04) turned by the estimated heading.

@@ -3,8 +3,8 @@
 //! ([`crate::grid`]), the particle filter and Fuzzy R-MCL (`baseline`) and the
 //! cooperative layer are stepped, kidnapped and scored the same way.
 //!
-//! A method implements [`Localizer`]: it takes odometry increments ([`Motion`]) and landmark
-//! readings ([`Observation`]) and gives a [`PoseEstimate`] with a reliability in [0, 1] of its
+//! A method implements [`Localizer`]: it takes odometry increments ([`Odometry`], with the time
+//! they took) and landmark readings ([`Observation`]) and gives a [`PoseEstimate`] with a reliability in [0, 1] of its
 //! own definition. [`Drive`] feeds it one [`MetricFrame`] at a time — odometry first, then the
 //! frame's readings of known landmarks, then the estimate — and [`Drive::finish`] turns the
 //! frames into a [`RunReport`].
@@ -37,8 +37,8 @@
 //! The metric input types ([`MetricFrame`], [`LandmarkReading`], the truth track) live here, in
 //! [`frame`], and the grid's [`Localizer`] in [`grid`]; the dataset readers in `io` build frames.
 //!
-//! May depend on: `core` (pose, odometry, angles, RNG), `grid` (the belief, the reading and
-//! motion types).
+//! May depend on: `core` (pose, odometry, angles, RNG), `grid` (the belief, the reading type and
+//! the motion check).
 //!
 //! # Complexity
 //!
@@ -84,8 +84,8 @@ pub mod robust;
 pub use frame::{interpolate_truth, LandmarkReading, MetricFrame, TruthRow};
 
 use crate::core::angle::wrap_pi_f32;
-use crate::core::Pose2;
-use crate::grid::{LandmarkTable, Motion, Observation};
+use crate::core::{Odometry, Pose2};
+use crate::grid::{LandmarkTable, Observation};
 use serde::{Deserialize, Serialize};
 
 /// A pose estimate with the method's confidence in it.
@@ -106,8 +106,10 @@ pub struct PoseEstimate {
 pub trait Localizer {
     /// What a rejected input is.
     type Error: std::error::Error;
-    /// Moves the belief by an odometry increment (robot frame at the start of the interval).
-    fn predict(&mut self, motion: &Motion) -> Result<(), Self::Error>;
+    /// Moves the belief by an odometry increment (robot frame at the start of the interval) that
+    /// took `dt` seconds. A value not finite in single precision or a negative `dt` is rejected
+    /// ([`crate::grid::check_motion`]).
+    fn predict(&mut self, odometry: &Odometry, dt: f64) -> Result<(), Self::Error>;
     /// Takes one reading of a landmark of `table`.
     fn observe(&mut self, table: &LandmarkTable, obs: &Observation) -> Result<(), Self::Error>;
     /// The estimate after this frame's motion and readings.
@@ -341,22 +343,13 @@ impl<'t> Drive<'t> {
                 self.kidnap = None;
             }
         }
-        let m = if self.opts.use_odometry {
-            Motion {
-                forward: o.forward as f32,
-                lateral: o.left as f32,
-                turn: o.turn as f32,
-                dt: f.dt as f32,
-            }
-        } else {
-            Motion {
-                forward: 0.0,
-                lateral: 0.0,
-                turn: 0.0,
-                dt: f.dt as f32,
-            }
-        };
-        if loc.predict(&m).is_err() {
+        if !self.opts.use_odometry {
+            o = Odometry::default();
+        }
+        // Rounded once, here: every method computes with the grid's single-precision values
+        // (`Odometry::to_single_precision`).
+        let dt = f.dt as f32 as f64;
+        if loc.predict(&o.to_single_precision(), dt).is_err() {
             self.rejected += 1;
         }
         let interval = loc.reobserve_interval();
@@ -543,5 +536,68 @@ mod tests {
         // From t = 12 the frame without truth adds nothing.
         assert_eq!(early.ate_from(12.0), a.into());
         assert_eq!(early.ate_from(15.0), None);
+    }
+
+    /// Records what the driver feeds it.
+    #[derive(Default)]
+    struct Recorder {
+        fed: Vec<(Odometry, f64)>,
+    }
+
+    impl Localizer for Recorder {
+        type Error = crate::grid::GridError;
+        fn predict(&mut self, odometry: &Odometry, dt: f64) -> Result<(), Self::Error> {
+            self.fed.push((*odometry, dt));
+            Ok(())
+        }
+        fn observe(&mut self, _: &LandmarkTable, _: &Observation) -> Result<(), Self::Error> {
+            Ok(())
+        }
+        fn estimate(&mut self) -> PoseEstimate {
+            PoseEstimate {
+                pose: Pose2::default(),
+                reliability: 0.0,
+                heading_reliability: 0.0,
+            }
+        }
+        fn fix_reliability(&self) -> f32 {
+            1.0
+        }
+    }
+
+    #[test]
+    fn the_driver_rounds_the_increment_to_single_precision_once() {
+        let table = LandmarkTable::new(Vec::new()).unwrap();
+        let frame = MetricFrame {
+            t: 0.0,
+            dt: 0.1,
+            odometry: Odometry {
+                forward: 0.1,
+                left: -0.3,
+                turn: 0.7,
+            },
+            observations: Vec::new(),
+            truth: None,
+        };
+        let mut loc = Recorder::default();
+        Drive::new(&table, RunOptions::default()).step(&mut loc, &frame);
+        let no_odometry = RunOptions {
+            use_odometry: false,
+            ..RunOptions::default()
+        };
+        Drive::new(&table, no_odometry).step(&mut loc, &frame);
+        let rounded = Odometry {
+            forward: 0.1f32 as f64,
+            left: -0.3f32 as f64,
+            turn: 0.7f32 as f64,
+        };
+        assert_ne!(rounded.forward, 0.1);
+        assert_eq!(
+            loc.fed,
+            vec![
+                (rounded, 0.1f32 as f64),
+                (Odometry::default(), 0.1f32 as f64)
+            ]
+        );
     }
 }

@@ -7,8 +7,8 @@ use super::baseline_sim;
 use baseline_sim::{table, BOUNDS};
 use lplace::baseline::pf::{apply_motion, low_variance_resample, wheel_increment, Injection};
 use lplace::baseline::{BaselineError, ParticleFilter, PfConfig};
-use lplace::core::Pose2;
-use lplace::grid::{GridError, Motion, Observation};
+use lplace::core::{Odometry, Pose2};
+use lplace::grid::{GridError, Observation};
 use lplace::localize::{drive, Kidnap, Localizer, Recovery, RunOptions};
 use proptest::prelude::*;
 
@@ -20,7 +20,7 @@ fn close(a: f64, b: f64) -> bool {
 fn motion_model_by_hand() {
     // Eq. 2: Δθ = (0.2 − 0.1)/0.05 = 2; eq. 3: Δs = 0.15.
     let m = wheel_increment(0.1, 0.2, 0.05);
-    assert!(close(m.turn as f64, 2.0));
+    assert!(close(m.turn, 2.0));
     // Eqs. 4–5 from (1, 2, 0.5): Δx = 0.15·cos(1.5) = 0.15·0.0707372 = 0.0106106,
     // Δy = 0.15·sin(1.5) = 0.15·0.9974950 = 0.1496242; eq. 1 adds them; θ = 2.5.
     let p = apply_motion(
@@ -65,14 +65,31 @@ fn motion_model_by_hand() {
             y: 0.0,
             theta: std::f64::consts::FRAC_PI_2,
         },
-        &Motion {
+        &Odometry {
             forward: 0.0,
-            lateral: 1.0,
+            left: 1.0,
             turn: 0.0,
-            dt: 0.0,
         },
     );
     assert!(close(p.x, -1.0) && close(p.y, 0.0));
+}
+
+#[test]
+fn motion_beyond_single_precision_is_rejected() {
+    // Finite in f64 but not in the single precision the metric methods share: rejected as the
+    // grid rejects it, leaving the particles where they were.
+    let mut pf = ParticleFilter::new(&table(), &PfConfig::default(), BOUNDS, 5).unwrap();
+    let before: Vec<_> = pf.particles().collect();
+    let far = Odometry {
+        forward: 1e39,
+        left: 0.0,
+        turn: 0.0,
+    };
+    let r = pf.predict(&far, 0.1);
+    assert!(
+        matches!(r, Err(BaselineError::Grid(GridError::BadMotion { forward, .. })) if forward == 1e39)
+    );
+    assert_eq!(before, pf.particles().collect::<Vec<_>>());
 }
 
 #[test]
@@ -89,13 +106,12 @@ fn noise_free_prediction_is_the_motion_model() {
     };
     let mut pf = ParticleFilter::new(&table(), &cfg, BOUNDS, 3).unwrap();
     let before: Vec<_> = pf.particles().collect();
-    let m = Motion {
+    let m = Odometry {
         forward: 0.3,
-        lateral: 0.02,
+        left: 0.02,
         turn: 0.4,
-        dt: 0.5,
     };
-    pf.predict(&m).unwrap();
+    pf.predict(&m, 0.5).unwrap();
     for (b, a) in before.iter().zip(pf.particles()) {
         let want = apply_motion(
             Pose2 {
@@ -178,9 +194,9 @@ proptest! {
     ) {
         let mut pf = ParticleFilter::new(&table(), &PfConfig { particles: 64, ..PfConfig::default() }, BOUNDS, 9).unwrap();
         let before: Vec<_> = pf.particles().collect();
-        let m = Motion { forward, lateral, turn, dt };
+        let m = Odometry { forward: forward as f64, left: lateral as f64, turn: turn as f64 };
         let bad = ![forward, lateral, turn, dt].iter().all(|v| v.is_finite()) || dt < 0.0;
-        let r = pf.predict(&m);
+        let r = pf.predict(&m, dt as f64);
         prop_assert_eq!(r.is_err(), bad);
         if bad {
             let is_bad_motion = matches!(r, Err(BaselineError::Grid(GridError::BadMotion { .. })));

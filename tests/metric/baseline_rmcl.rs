@@ -5,7 +5,8 @@ use super::baseline_sim;
 
 use baseline_sim::{table, BOUNDS};
 use lplace::baseline::{BaselineError, FuzzyRmcl, RmclConfig};
-use lplace::grid::{GridConfig, Motion, Observation};
+use lplace::core::Odometry;
+use lplace::grid::{GridConfig, Observation};
 use lplace::localize::grid::GridLocalizer;
 use lplace::localize::{drive, Localizer, RunOptions};
 use proptest::prelude::*;
@@ -67,14 +68,16 @@ fn a_frame_without_readings_is_the_grid_and_no_fallback() {
     let t = table();
     let mut rmcl = FuzzyRmcl::new(&t, &RmclConfig::default(), &grid_cfg(), BOUNDS, 1).unwrap();
     let mut grid = GridLocalizer::new(&t, &grid_cfg()).unwrap();
-    let m = Motion {
-        forward: 0.1,
-        lateral: 0.0,
-        turn: 0.0,
-        dt: 0.2,
-    };
-    rmcl.predict(&m).unwrap();
-    grid.predict(&m).unwrap();
+    let (m, dt) = (
+        Odometry {
+            forward: 0.1,
+            left: 0.0,
+            turn: 0.0,
+        },
+        0.2,
+    );
+    rmcl.predict(&m, dt).unwrap();
+    grid.predict(&m, dt).unwrap();
     assert_eq!(rmcl.estimate(), grid.estimate());
     assert_eq!((rmcl.fallbacks(), rmcl.sampled()), (0, 0));
 }
@@ -116,14 +119,16 @@ fn samples_are_carried_by_odometry_until_a_fallback() {
     // 0.2 m ahead: each sample moves along its own heading, the centre of its cell's heading
     // set, which the exact bearings put within the bearing core (±0.03 rad) of 0.3 rad; so the
     // mean moves by 0.2 m along 0.3 rad, to within 0.2 · 0.03 m plus rounding.
-    let m = Motion {
-        forward: 0.2,
-        lateral: 0.0,
-        turn: 0.0,
-        dt: 1.0,
-    };
-    rmcl.predict(&m).unwrap();
-    grid.predict(&m).unwrap();
+    let (m, dt) = (
+        Odometry {
+            forward: 0.2,
+            left: 0.0,
+            turn: 0.0,
+        },
+        1.0,
+    );
+    rmcl.predict(&m, dt).unwrap();
+    grid.predict(&m, dt).unwrap();
     let after = rmcl.estimate();
     assert_eq!(rmcl.carried(), 1);
     let (dx, dy) = (after.pose.x - before.pose.x, after.pose.y - before.pose.y);
@@ -139,8 +144,8 @@ fn samples_are_carried_by_odometry_until_a_fallback() {
     grid.observe(&t, &o).unwrap();
     rmcl.estimate();
     grid.estimate();
-    rmcl.predict(&m).unwrap();
-    grid.predict(&m).unwrap();
+    rmcl.predict(&m, dt).unwrap();
+    grid.predict(&m, dt).unwrap();
     assert_eq!(rmcl.estimate(), grid.estimate());
     assert_eq!(rmcl.carried(), 1);
 }
@@ -234,9 +239,9 @@ proptest! {
         let obs = Observation { landmark: 2, range: Some(range), bearing: Some(bearing) };
         let bad_obs = !(range.is_finite() && range >= 0.0 && bearing.is_finite());
         prop_assert_eq!(r.observe(&t, &obs).is_err(), bad_obs);
-        let m = Motion { forward, lateral: 0.0, turn: 0.0, dt };
+        let m = Odometry { forward: forward as f64, left: 0.0, turn: 0.0 };
         let bad_m = !(forward.is_finite() && dt.is_finite() && dt >= 0.0);
-        prop_assert_eq!(r.predict(&m).is_err(), bad_m);
+        prop_assert_eq!(r.predict(&m, dt as f64).is_err(), bad_m);
         if bad_obs && bad_m {
             prop_assert_eq!(plane, r.grid().grid().possibilities().to_vec());
         }

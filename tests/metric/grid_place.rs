@@ -4,9 +4,10 @@
 //! by odometry and the structured beacon, scoring how often the refined pose lies in the truth
 //! place's extent on decided frames.
 
+use lplace::core::Odometry;
 use lplace::engine::Engine;
 use lplace::grid::place::{place_regions, Refiner};
-use lplace::grid::{FuzzyGrid, GridConfig, GridError, Motion, Region, SensorModel};
+use lplace::grid::{FuzzyGrid, GridConfig, GridError, Region, SensorModel};
 use lplace::io::record::FrameRecord;
 use lplace::sim::{SimConfig, Simulator};
 
@@ -120,13 +121,13 @@ fn run_office(records: impl IntoIterator<Item = FrameRecord>) -> Score {
     for rec in records {
         s.frames += 1;
         let o = rec.odometry.unwrap_or_default();
-        grid.predict(&Motion {
-            forward: o.dx as f32,
-            lateral: o.dy as f32,
-            turn: o.dtheta.to_radians() as f32,
-            dt: 0.1,
-        })
-        .unwrap();
+        // The record's degrees converted at this edge; the grid rounds to its single precision.
+        let increment = Odometry {
+            forward: o.dx,
+            left: o.dy,
+            turn: o.dtheta.to_radians(),
+        };
+        grid.predict(&increment, 0.1).unwrap();
         let value = |name: &str| {
             rec.percepts
                 .iter()

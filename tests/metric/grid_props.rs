@@ -3,6 +3,7 @@
 
 #![allow(clippy::needless_range_loop)] // index loops mirror the formulas
 
+use lplace::core::Odometry;
 use lplace::grid::dilate::{dilate_line, Profile};
 use lplace::grid::{Combine, ElementShape, FuzzyGrid, GridConfig, Trapezoid};
 use proptest::prelude::*;
@@ -321,9 +322,9 @@ proptest! {
         let _ = g.update_range(lx, ly, r);
         let _ = g.update_range_bearing(lx, ly, r, b);
         let _ = g.update_bearing(lx, ly, b);
-        let _ = g.predict(&lplace::grid::Motion { forward: fwd, lateral: -fwd, turn, dt });
+        let _ = g.predict(&Odometry { forward: fwd as f64, left: -fwd as f64, turn: turn as f64 }, dt as f64);
         g.apply_pending();
-        let _ = g.predict(&lplace::grid::Motion { forward: 1e30, lateral: -1e30, turn: 1e30, dt: 1e30 });
+        let _ = g.predict(&Odometry { forward: 1e30, left: -1e30, turn: 1e30 }, 1e30);
         let _ = g.update_range(1.0, 1.0, 1.0);
         g.dilate(core, flank);
         let e = g.estimate();
