@@ -34,7 +34,7 @@
 //! let a = Trapezoid::new(0.0, 0.2, 0.2, 1.0, 0.1);
 //! let b = Trapezoid::new(0.25, 0.2, 0.2, 1.0, 0.1);
 //! let c = a.intersect_angle(&b);
-//! assert!((c.bias - 0.01).abs() < 1e-6); // b_C = b_A · b_B
+//! assert!((c.shape.bias - 0.01).abs() < 1e-6); // b_C = b_A · b_B
 //! assert!(c.center > 0.0 && c.center < 0.25);
 //! ```
 
