@@ -114,14 +114,3 @@ pub(crate) fn ron_error(e: crate::core::config::RonError) -> BaselineError {
         problem: e.problem,
     }
 }
-
-/// Wraps an angle into (−π, π] in f64.
-pub(crate) fn wrap(a: f64) -> f64 {
-    use std::f64::consts::{PI, TAU};
-    let r = a.rem_euclid(TAU);
-    if r > PI {
-        r - TAU
-    } else {
-        r
-    }
-}

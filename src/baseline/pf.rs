@@ -82,7 +82,8 @@
 //! ```
 
 use super::Reading;
-use super::{check_bounds, check_motion, check_observation, ron_error, wrap, BaselineError};
+use super::{check_bounds, check_motion, check_observation, ron_error, BaselineError};
+use crate::core::angle::wrap_pi;
 use crate::core::rng::SplitMix64;
 use crate::core::{Odometry, Pose2};
 use crate::grid::{LandmarkTable, Observation};
@@ -278,7 +279,7 @@ pub fn wheel_increment(ds_left: f64, ds_right: f64, track: f64) -> Odometry {
 
 /// Eqs. 1, 4, 5 of paper 004 on a robot-frame increment (noise-free; see the module docs for the
 /// mapping): `Δs = hypot(forward, left)`, `φ = atan2(left, forward)`,
-/// `x += Δs·cos(θ + φ)`, `y += Δs·sin(θ + φ)`, `θ ← wrap(θ + turn)`.
+/// `x += Δs·cos(θ + φ)`, `y += Δs·sin(θ + φ)`, `θ ← wrap_pi(θ + turn)`.
 ///
 /// # Example
 /// ```
@@ -295,7 +296,7 @@ pub fn apply_motion(p: Pose2, odometry: &Odometry) -> Pose2 {
     Pose2 {
         x: p.x + ds * (p.theta + phi).cos(),
         y: p.y + ds * (p.theta + phi).sin(),
-        theta: wrap(p.theta + odometry.turn),
+        theta: wrap_pi(p.theta + odometry.turn),
     }
 }
 
@@ -418,7 +419,7 @@ impl ParticleFilter {
         let n = self.x.len();
         self.x.fill(pose.x);
         self.y.fill(pose.y);
-        self.th.fill(wrap(pose.theta));
+        self.th.fill(wrap_pi(pose.theta));
         self.w.fill(1.0 / n.max(1) as f64);
         Ok(())
     }
@@ -479,7 +480,7 @@ impl ParticleFilter {
         };
         let th = match r.bearing {
             Some(b) => {
-                wrap((r.ly - y).atan2(r.lx - x) - b + self.cfg.bearing_sigma * self.rng.normal())
+                wrap_pi((r.ly - y).atan2(r.lx - x) - b + self.cfg.bearing_sigma * self.rng.normal())
             }
             None => self.rng.uniform(-PI, PI),
         };
@@ -499,7 +500,7 @@ impl ParticleFilter {
             q += e * e;
         }
         if let Some(b) = r.bearing {
-            let e = wrap(dy.atan2(dx) - th - b) / self.cfg.bearing_sigma;
+            let e = wrap_pi(dy.atan2(dx) - th - b) / self.cfg.bearing_sigma;
             q += e * e;
         }
         let eps = self.cfg.outlier;
@@ -569,7 +570,7 @@ impl Localizer for ParticleFilter {
             let a = self.th[i] + phi + 0.5 * dturn;
             self.x[i] += ds_i * a.cos() + sig_xy * self.rng.normal();
             self.y[i] += ds_i * a.sin() + sig_xy * self.rng.normal();
-            self.th[i] = wrap(self.th[i] + turn + dturn + sig_th * self.rng.normal());
+            self.th[i] = wrap_pi(self.th[i] + turn + dturn + sig_th * self.rng.normal());
         }
         Ok(())
     }

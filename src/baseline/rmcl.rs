@@ -9,7 +9,7 @@
 //! \[in\] the distance but also the bearing" (§3): for the cell centre `c` and the cell's heading
 //! (the centre of its heading set, or the grid's heading when the set is the full circle),
 //! `|r − ‖L − c‖| ≤ cell_distance_error + half the cell diagonal` and
-//! `|wrap(∠(L − c) − θ − b)| ≤ cell_bearing_error`.
+//! `|wrap_pi(∠(L − c) − θ − b)| ≤ cell_bearing_error`.
 //!
 //! **Certainty condition** (§3): samples are drawn only when there is at least one best cell and
 //! no more than `max_cells` of them.
@@ -73,7 +73,8 @@
 //! ```
 
 use super::Reading;
-use super::{check_bounds, check_motion, check_observation, ron_error, wrap, BaselineError};
+use super::{check_bounds, check_motion, check_observation, ron_error, BaselineError};
+use crate::core::angle::wrap_pi;
 use crate::core::rng::SplitMix64;
 use crate::core::{Odometry, Pose2};
 use crate::grid::{GridConfig, LandmarkTable, Observation, Trapezoid};
@@ -193,7 +194,7 @@ impl RmclConfig {
                 w = w.min(self.membership((r - dx.hypot(dy)) as f32));
             }
             if let Some(b) = bearing {
-                if wrap(dy.atan2(dx) - theta - b).abs() > self.sample_bearing_error as f64 {
+                if wrap_pi(dy.atan2(dx) - theta - b).abs() > self.sample_bearing_error as f64 {
                     return None;
                 }
             }
@@ -300,7 +301,7 @@ impl FuzzyRmcl {
                 let good = self.frame.iter().all(|&(lx, ly, r, b)| {
                     let (dx, dy) = (lx - cx, ly - cy);
                     r.map_or(true, |r| (r - dx.hypot(dy)).abs() <= slack)
-                        && b.map_or(true, |b| wrap(dy.atan2(dx) - theta - b).abs() <= b_lim)
+                        && b.map_or(true, |b| wrap_pi(dy.atan2(dx) - theta - b).abs() <= b_lim)
                 });
                 if good {
                     self.cells.push((col, row, theta));
@@ -344,7 +345,7 @@ impl Localizer for FuzzyRmcl {
             let (s, c) = theta.sin_cos();
             *x += c * f - s * l;
             *y += s * f + c * l;
-            *theta = wrap(*theta + turn);
+            *theta = wrap_pi(*theta + turn);
         }
         Ok(())
     }

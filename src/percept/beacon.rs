@@ -463,7 +463,7 @@ pub fn landmark_records(r: &LandmarkReading, cfg: &LandmarkConfig) -> [PerceptRe
         r.reliability.clamp(0.0, 1.0)
     };
     let delta = 1.0 - rel * falloff;
-    let bearing = super::sonar_wall::angle_diff(r.bearing_rad, 0.0);
+    let bearing = crate::core::angle::wrap_pi(r.bearing_rad);
     [
         PerceptRecord::from_delta(PerceptKind::LandmarkRange, arg, Some(r.range_m), delta),
         PerceptRecord::from_delta(PerceptKind::LandmarkBearing, arg, Some(bearing), delta),

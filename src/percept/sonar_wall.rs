@@ -248,7 +248,7 @@ impl SonarWall {
         }
         if let Some(last) = self.last_kept {
             let travel = (pose.x - last.x).hypot(pose.y - last.y);
-            let turn = angle_diff(pose.theta, last.theta).abs();
+            let turn = crate::core::angle::wrap_pi(pose.theta - last.theta).abs();
             if travel < self.cfg.min_travel_m && turn < self.cfg.min_turn_deg.to_radians() {
                 return PushOutcome::TooClose;
             }
@@ -287,16 +287,6 @@ impl SonarWall {
             delta: delta_wall(fit.rms_dispersion, self.cfg.delta_max_m),
             distance: Some(distance),
         }
-    }
-}
-
-/// Difference of two angles wrapped into `(−π, π]`.
-pub(crate) fn angle_diff(a: f64, b: f64) -> f64 {
-    let d = (a - b).rem_euclid(std::f64::consts::TAU);
-    if d > std::f64::consts::PI {
-        d - std::f64::consts::TAU
-    } else {
-        d
     }
 }
 
