@@ -62,9 +62,11 @@ fn both<L: Localizer>(
     let kid = RunOptions {
         kidnap: Some(Kidnap {
             time: t_mid,
-            forward: 0.0,
-            lateral: 2.0,
-            turn: 1.5,
+            by: lplace::core::Odometry {
+                forward: 0.0,
+                left: 2.0,
+                turn: 1.5,
+            },
         }),
         ..RunOptions::default()
     };

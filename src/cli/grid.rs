@@ -21,6 +21,7 @@ use std::path::Path;
 use super::args::{Format, FrameInput, GridArgs, KidnapArgs};
 use super::output::{self, Output};
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
+use crate::core::Odometry;
 use crate::grid::place::map_landmarks;
 use crate::grid::{GridConfig, LandmarkTable, LandmarkTruth};
 use crate::io::landmark_stream;
@@ -313,9 +314,11 @@ pub(super) fn kidnap(
         time - first.t,
         Kidnap {
             time,
-            forward: by(0),
-            lateral: by(1),
-            turn: by(2).to_radians(),
+            by: Odometry {
+                forward: by(0),
+                left: by(1),
+                turn: by(2).to_radians(),
+            },
         },
     )))
 }

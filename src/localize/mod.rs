@@ -127,12 +127,8 @@ pub trait Localizer {
 pub struct Kidnap {
     /// Time (s, same clock as the frames) of the kidnap.
     pub time: f64,
-    /// Forward offset (m, robot frame).
-    pub forward: f64,
-    /// Lateral offset (m, robot frame).
-    pub lateral: f64,
-    /// Rotation offset (rad).
-    pub turn: f64,
+    /// The offset, as an odometry increment (robot frame at that frame, SI units).
+    pub by: Odometry,
 }
 
 /// What the driver uses and measures.
@@ -337,9 +333,9 @@ impl<'t> Drive<'t> {
         let mut o = f.odometry;
         if let Some(k) = self.kidnap {
             if f.t >= k.time {
-                o.forward += k.forward;
-                o.left += k.lateral;
-                o.turn += k.turn;
+                o.forward += k.by.forward;
+                o.left += k.by.left;
+                o.turn += k.by.turn;
                 self.kidnap = None;
             }
         }

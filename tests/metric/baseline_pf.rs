@@ -286,9 +286,11 @@ fn kidnapped(injection: Injection) -> Option<Recovery> {
     let opts = RunOptions {
         kidnap: Some(Kidnap {
             time: 40.0,
-            forward: 0.0,
-            lateral: 2.0,
-            turn: 1.5,
+            by: lplace::core::Odometry {
+                forward: 0.0,
+                left: 2.0,
+                turn: 1.5,
+            },
         }),
         ..RunOptions::default()
     };

@@ -300,9 +300,11 @@ fn robocup_field_tracks_and_recovers_from_a_kidnap() {
     let opts = RunOptions {
         kidnap: Some(Kidnap {
             time: 30.0,
-            forward: 0.0,
-            lateral: 1.0,
-            turn: 0.0,
+            by: lplace::core::Odometry {
+                forward: 0.0,
+                left: 1.0,
+                turn: 0.0,
+            },
         }),
         ..RunOptions::default()
     };
