@@ -200,14 +200,7 @@ fn tracker_config(args: &EvalArgs, engine: &Engine) -> Result<TrackerConfig, Cli
     let Some(path) = &args.tracker else {
         return Ok(engine.tracker_config());
     };
-    let text = std::fs::read_to_string(path).map_err(|source| CliError::Read {
-        path: path.display().to_string(),
-        source,
-    })?;
-    TrackerConfig::from_ron(&text).map_err(|e| {
-        eprintln!("{}: {e}", path.display());
-        CliError::Diagnostics { count: 1 }
-    })
+    super::read_tracker(path)
 }
 
 /// Writes a degree in `[0, 1]` with 4 decimals, without going through float formatting (this

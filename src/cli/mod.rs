@@ -167,6 +167,16 @@ fn read_source(path: &std::path::Path) -> Result<crate::syntax::diagnostic::Sour
     }
 }
 
+/// Reads a `--tracker` file: a UTF-8 error is a diagnostic with its line (as for maps and
+/// rules), a bad key or value names the file and its line.
+fn read_tracker(path: &std::path::Path) -> Result<crate::engine::tracker::TrackerConfig, CliError> {
+    let src = read_source(path)?;
+    crate::engine::tracker::TrackerConfig::from_ron(&src.text).map_err(|e| {
+        eprintln!("error: {}: {e}", src.name);
+        CliError::Diagnostics { count: 1 }
+    })
+}
+
 /// Loads the engine named by `--map/--rules` (bundled office files for those not given),
 /// printing every diagnostic of the failing file.
 fn load_engine(

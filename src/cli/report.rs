@@ -13,7 +13,6 @@ use clap::Args;
 
 use super::args::ModelArgs;
 use super::{load_engine, CliError, EXIT_OK, EXIT_REJECTED};
-use crate::engine::tracker::TrackerConfig;
 use crate::engine::CompileOptions;
 use crate::io::stream::{read_records, Record, StreamFormat, StreamReader, Threads};
 use crate::report::html::{self, RunPage, RunRecorder, Setup};
@@ -49,7 +48,7 @@ pub struct ReportArgs {
 pub fn run(args: &ReportArgs, out: &mut impl std::io::Write) -> Result<u8, CliError> {
     let engine = load_engine(&args.model, &CompileOptions::default())?;
     let cfg = match &args.tracker {
-        Some(path) => Some(read_tracker(path)?),
+        Some(path) => Some(super::read_tracker(path)?),
         None => (!args.no_track).then(|| engine.tracker_config()),
     };
     let map = engine.map().clone();
@@ -119,18 +118,6 @@ fn one_run(
         },
     )?;
     Ok(rec.finish(run.summary(), map, run.grid_tracker()))
-}
-
-/// Reads `--tracker`.
-fn read_tracker(path: &std::path::Path) -> Result<TrackerConfig, CliError> {
-    let text = std::fs::read_to_string(path).map_err(|source| CliError::Read {
-        path: path.display().to_string(),
-        source,
-    })?;
-    TrackerConfig::from_ron(&text).map_err(|e| {
-        eprintln!("{}: {e}", path.display());
-        CliError::Diagnostics { count: 1 }
-    })
 }
 
 /// How the runs were made, for the page's header.

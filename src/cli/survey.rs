@@ -185,9 +185,5 @@ fn tracker_config(path: Option<&PathBuf>) -> Result<Option<TrackerConfig>, CliEr
     let Some(path) = path else {
         return Ok(None);
     };
-    let src = read_source(path)?;
-    TrackerConfig::from_ron(&src.text).map(Some).map_err(|e| {
-        eprintln!("error: {}: {e}", src.name);
-        CliError::Diagnostics { count: 1 }
-    })
+    super::read_tracker(path).map(Some)
 }

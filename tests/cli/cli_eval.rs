@@ -350,6 +350,27 @@ fn a_configuration_key_nobody_declared_is_a_bad_input_naming_it() {
     assert!(err.contains("unknown key `totally_bogus_field`"), "{err}");
 }
 
+/// A tracker file that is not UTF-8 is reported as maps and rules are — a diagnostic with its
+/// line, exit 2 — by every command that takes `--tracker` (it used to be an I/O error, exit 1,
+/// with no position, in `eval` and `report`).
+#[test]
+fn a_tracker_file_not_utf8_is_a_diagnostic_with_its_line() {
+    let bad = std::env::temp_dir().join(format!("lplace-cli-eval-{}-bad.ron", std::process::id()));
+    std::fs::write(&bad, b"(\n    bias: 0.1,\xff\n)\n").expect("temp file is writable");
+    for cmd in [&["eval", "--only-summary"][..], &["report"][..]] {
+        let out = lplace()
+            .args(cmd)
+            .arg("--tracker")
+            .arg(&bad)
+            .output()
+            .expect("runs");
+        assert_eq!(out.status.code(), Some(2), "{cmd:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("bad.ron:2:"), "{cmd:?}: {err}");
+        assert!(err.contains("invalid UTF-8"), "{cmd:?}: {err}");
+    }
+}
+
 /// Issue 16 row 7 on the bundled recording: line 2's time made 1e9 is the one record rejected
 /// (it used to be kept and the 2,498 records after it rejected as "time goes backwards").
 #[test]
