@@ -17,11 +17,8 @@ use std::str::FromStr;
 use std::time::{Duration, Instant};
 
 use super::args::{CompareArgs, Format, SweepKind};
-use super::grid::{
-    bad, input_title, kidnap, load_frames, output_error, read_config, write_trajectory,
-    LoadedFrames,
-};
-use super::{CliError, EXIT_OK, EXIT_REJECTED};
+use super::grid::{input_title, kidnap, load_frames, output_error, write_trajectory, LoadedFrames};
+use super::{bad, read_config, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::baseline::{FuzzyRmcl, ParticleFilter, PfConfig, RmclConfig};
 use crate::core::Pose2;
 use crate::grid::{GridConfig, LandmarkTable};

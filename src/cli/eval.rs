@@ -200,7 +200,7 @@ fn tracker_config(args: &EvalArgs, engine: &Engine) -> Result<TrackerConfig, Cli
     let Some(path) = &args.tracker else {
         return Ok(engine.tracker_config());
     };
-    super::read_tracker(path)
+    super::read_config(path, TrackerConfig::from_ron)
 }
 
 /// Writes a degree in `[0, 1]` with 4 decimals, without going through float formatting (this

@@ -72,13 +72,7 @@ pub fn run(args: &ExtractArgs, out: &mut impl Write) -> Result<u8, CliError> {
 pub(super) fn load_config(args: &ExtractArgs) -> Result<ExtractConfig, CliError> {
     match &args.config {
         None => Ok(ExtractConfig::travelling()),
-        Some(path) => {
-            let src = read_source(path)?;
-            ExtractConfig::from_ron(&src.text).map_err(|e| {
-                eprintln!("{}: {e}", path.display());
-                CliError::Diagnostics { count: 1 }
-            })
-        }
+        Some(path) => super::read_config(path, ExtractConfig::from_ron),
     }
 }
 

@@ -11,18 +11,12 @@ use std::io::Write;
 use std::path::Path;
 
 use super::args::{Format, FuseArgs};
-use super::{read_source, CliError, EXIT_OK, EXIT_REJECTED};
+use super::{bad, read_config, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::coop::experiment::{self, Options, Report, RobotTrack, Stat, Summary};
 use crate::coop::CoopConfig;
 use crate::grid::place::survey_landmarks;
 use crate::grid::{GridConfig, LandmarkTable};
 use crate::io::mrclam_dir::RobotLog;
-
-/// One problem reported on stderr, mapped to exit 2.
-fn bad(msg: impl std::fmt::Display) -> CliError {
-    eprintln!("error: {msg}");
-    CliError::Diagnostics { count: 1 }
-}
 
 /// The landmark table and the five robots' logs of an MRCLAM directory; malformed lines are
 /// reported as FILE:LINE and counted in `skipped`.
@@ -54,13 +48,11 @@ pub fn run(args: &FuseArgs, out: &mut impl Write) -> Result<u8, CliError> {
     }
     let grid_cfg = match &args.config {
         None => GridConfig::default(),
-        Some(p) => GridConfig::from_ron(&read_source(p)?.text)
-            .map_err(|e| bad(format!("{}: {e}", p.display())))?,
+        Some(p) => read_config(p, GridConfig::from_ron)?,
     };
     let cfg = match &args.coop_config {
         None => CoopConfig::default(),
-        Some(p) => CoopConfig::from_ron(&read_source(p)?.text)
-            .map_err(|e| bad(format!("{}: {e}", p.display())))?,
+        Some(p) => read_config(p, CoopConfig::from_ron)?,
     };
     let mut skipped = 0;
     let (table, logs) = load_dataset(&super::data::resolve(&args.from_dir), &mut skipped)?;

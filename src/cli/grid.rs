@@ -20,7 +20,7 @@ use std::path::Path;
 
 use super::args::{Format, FrameInput, GridArgs, KidnapArgs};
 use super::output::{self, Output};
-use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
+use super::{bad, read_config, read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
 use crate::core::Odometry;
 use crate::grid::place::map_landmarks;
 use crate::grid::{GridConfig, LandmarkTable, LandmarkTruth};
@@ -51,12 +51,6 @@ pub(super) fn load_map(path: Option<&Path>) -> Result<Map, CliError> {
     };
     let ast = parse_map(&src.text).map_err(fail)?;
     Map::from_ast(&ast).map_err(fail)
-}
-
-/// One problem reported on stderr, mapped to exit 2.
-pub(super) fn bad(msg: impl std::fmt::Display) -> CliError {
-    eprintln!("error: {msg}");
-    CliError::Diagnostics { count: 1 }
 }
 
 /// Reads a landmark stream through the one stream reader ([`landmark_stream`]); each
@@ -267,16 +261,6 @@ fn survey_map(survey: &[LandmarkTruth], file: &Path) -> Result<Map, CliError> {
     let fail = |_| bad(format!("{}: the survey is not a map", file.display()));
     let ast = parse_map(&text).map_err(fail)?;
     Map::from_ast(&ast).map_err(fail)
-}
-
-/// Reads a RON configuration file and parses it with `parse`; a parse error is reported with
-/// the file's name (exit 2).
-pub(super) fn read_config<T, E: std::fmt::Display>(
-    path: &Path,
-    parse: impl Fn(&str) -> Result<T, E>,
-) -> Result<T, CliError> {
-    let src = read_source(path)?;
-    parse(&src.text).map_err(|e| bad(format!("{}: {e}", path.display())))
 }
 
 /// The kidnap asked for by `--kidnap-at`/`--kidnap-by`, with its time after the first frame (s);

@@ -167,14 +167,21 @@ fn read_source(path: &std::path::Path) -> Result<crate::syntax::diagnostic::Sour
     }
 }
 
-/// Reads a `--tracker` file: a UTF-8 error is a diagnostic with its line (as for maps and
-/// rules), a bad key or value names the file and its line.
-fn read_tracker(path: &std::path::Path) -> Result<crate::engine::tracker::TrackerConfig, CliError> {
+/// A bad input already explained: prints `error: MSG` and exits 2 without a second message.
+pub(super) fn bad(msg: impl std::fmt::Display) -> CliError {
+    eprintln!("error: {msg}");
+    CliError::Diagnostics { count: 1 }
+}
+
+/// Reads a RON configuration file (`--config`, `--tracker`, …): a file that is not UTF-8 is a
+/// diagnostic with its line, as maps and rules are; a bad key or value names the file (its
+/// parser's message gives the line).
+pub(super) fn read_config<T, E: std::fmt::Display>(
+    path: &std::path::Path,
+    parse: impl Fn(&str) -> Result<T, E>,
+) -> Result<T, CliError> {
     let src = read_source(path)?;
-    crate::engine::tracker::TrackerConfig::from_ron(&src.text).map_err(|e| {
-        eprintln!("error: {}: {e}", src.name);
-        CliError::Diagnostics { count: 1 }
-    })
+    parse(&src.text).map_err(|e| bad(format!("{}: {e}", path.display())))
 }
 
 /// Loads the engine named by `--map/--rules` (bundled office files for those not given),

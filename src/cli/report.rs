@@ -48,7 +48,10 @@ pub struct ReportArgs {
 pub fn run(args: &ReportArgs, out: &mut impl std::io::Write) -> Result<u8, CliError> {
     let engine = load_engine(&args.model, &CompileOptions::default())?;
     let cfg = match &args.tracker {
-        Some(path) => Some(super::read_tracker(path)?),
+        Some(path) => Some(super::read_config(
+            path,
+            crate::engine::tracker::TrackerConfig::from_ron,
+        )?),
         None => (!args.no_track).then(|| engine.tracker_config()),
     };
     let map = engine.map().clone();

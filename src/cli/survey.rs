@@ -185,5 +185,5 @@ fn tracker_config(path: Option<&PathBuf>) -> Result<Option<TrackerConfig>, CliEr
     let Some(path) = path else {
         return Ok(None);
     };
-    super::read_tracker(path).map(Some)
+    super::read_config(path, TrackerConfig::from_ron).map(Some)
 }
