@@ -343,7 +343,7 @@ pub struct ExtractArgs {
     /// Format of the raw log.
     #[arg(long, value_enum, default_value_t = LogFormat::Carmen)]
     pub from: LogFormat,
-    /// The raw log (CARMEN), or the data set directory (MRCLAM).
+    /// The raw log (CARMEN, plain or gzipped), or the data set directory (MRCLAM).
     #[arg(value_name = "LOG")]
     pub log: PathBuf,
     /// MRCLAM robot number (1–5); required with --from mrclam.

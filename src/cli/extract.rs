@@ -4,7 +4,7 @@
 //! reads the files, reports malformed log lines on stderr with their line numbers and picks the
 //! exit code (3 when any line was rejected, after converting all the others).
 
-use std::io::{BufReader, Write};
+use std::io::{BufRead, BufReader, Write};
 
 use super::args::{ExtractArgs, LogFormat};
 use super::{read_source, render, CliError, EXIT_OK, EXIT_REJECTED};
@@ -33,17 +33,14 @@ pub fn run(args: &ExtractArgs, out: &mut impl Write) -> Result<u8, CliError> {
     if args.from == LogFormat::Rosbag2 {
         return super::extract_rosbag2::run(args, cfg, map.as_ref(), out);
     }
-    let file = std::fs::File::open(&args.log).map_err(|source| CliError::Read {
-        path: args.log.display().to_string(),
-        source,
-    })?;
+    let log = open_log(&args.log)?;
     let mut framer = CarmenFramer::new(cfg, map.as_ref().map(Map::places)).map_err(|e| {
         eprintln!("{e}");
         CliError::Diagnostics { count: 1 }
     })?;
     let log_name = args.log.display().to_string();
     let summary = convert(
-        BufReader::new(file),
+        log,
         &mut framer,
         |frame| -> Result<(), CliError> {
             serde_json::to_writer(&mut *out, &frame).map_err(std::io::Error::from)?;
@@ -64,6 +61,26 @@ pub fn run(args: &ExtractArgs, out: &mut impl Write) -> Result<u8, CliError> {
         EXIT_REJECTED
     } else {
         EXIT_OK
+    })
+}
+
+/// Opens the log; a gzipped one (told by its first two bytes, not its name) is read through
+/// the decoder, so that `run.log.gz` needs no unpacking. A corrupt stream ends the log with a
+/// line-numbered read error, as any read error does.
+fn open_log(path: &std::path::Path) -> Result<Box<dyn BufRead>, CliError> {
+    let read_err = |source| CliError::Read {
+        path: path.display().to_string(),
+        source,
+    };
+    let mut file = BufReader::new(std::fs::File::open(path).map_err(read_err)?);
+    let gzipped = file
+        .fill_buf()
+        .map_err(read_err)?
+        .starts_with(&[0x1f, 0x8b]);
+    Ok(if gzipped {
+        Box::new(BufReader::new(flate2::bufread::MultiGzDecoder::new(file)))
+    } else {
+        Box::new(file)
     })
 }
 

@@ -749,3 +749,44 @@ fn a_rule_files_tracker_block_equals_the_same_tracker_file() {
     let defaults = temp("defaults.ron", "()\n");
     assert_eq!(run(&rules, Some(&defaults)), run(&office_rules, None));
 }
+
+/// `extract` reads a gzipped log as it is published (told by its magic bytes, whatever its
+/// name): the same frames as the unpacked log. A log cut short inside the compressed stream
+/// keeps the frames before the cut and ends with a read error naming the log (exit 3).
+#[test]
+fn extract_reads_a_gzipped_log_as_the_plain_one() {
+    use std::io::Write as _;
+    let text = room_log();
+    let extract = |log: &std::path::Path| {
+        lplace()
+            .args(["extract", "--from", "carmen"])
+            .arg(log)
+            .output()
+            .expect("runs")
+    };
+    let plain = extract(&temp("room-plain.log", &text));
+    assert!(plain.status.success());
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    gz.write_all(text.as_bytes()).expect("compresses");
+    let gz = gz.finish().expect("compresses");
+    let packed = std::env::temp_dir().join(format!(
+        "lplace-cli-eval-{}-room.log",
+        std::process::id() + 1
+    ));
+    std::fs::write(&packed, &gz).expect("temp file is writable");
+    let unpacked = extract(&packed);
+    assert!(
+        unpacked.status.success(),
+        "{}",
+        String::from_utf8_lossy(&unpacked.stderr)
+    );
+    assert_eq!(unpacked.stdout, plain.stdout);
+
+    std::fs::write(&packed, &gz[..gz.len() / 2]).expect("temp file is writable");
+    let cut = extract(&packed);
+    assert_eq!(cut.status.code(), Some(3));
+    let frames = String::from_utf8_lossy(&cut.stdout).lines().count();
+    assert!(frames > 0 && frames < 20, "{frames} frames before the cut");
+    let err = String::from_utf8_lossy(&cut.stderr);
+    assert!(err.contains("room.log"), "{err}");
+}
