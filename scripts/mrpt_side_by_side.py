@@ -58,7 +58,7 @@ TOOLS = ("carmen2simplemap", "carmen2rawlog", "pf-localization")
 
 # The buildings of the README's table: the log (a gzipped one is unpacked into the work
 # directory), lplace's surveyed map (its extents are the truth and the places looked up), the
-# extractor config and the laser's angle between beams as the log does not state it.
+# extractor config and the laser's angle between beams (only Freiburg 101's log states it).
 BUILDINGS = {
     "intel": {
         "name": "Intel Research Lab",
