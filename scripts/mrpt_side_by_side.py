@@ -7,10 +7,10 @@ Issue 17, item 7: the peer a user would pick instead of lplace is MRPT's `pf-loc
 1. builds an occupancy grid from the same survey run lplace's map was surveyed on (the
    corrected log; `carmen2simplemap`, the grid is made from the simple map by `pf-localization`
    with the settings of `MetricMap` below),
-2. rebuilds the run's odometry from the log's ODOM lines (the corrected logs carry the
-   corrected pose in both FLASER pose slots) and converts the run with it (`carmen2rawlog`);
-   these ODOM lines are the odometry `lplace extract` reads too, and they are themselves close
-   to the corrected trajectory (docs/results.md),
+2. rebuilds the run's raw odometry from the log's ODOM lines as `lplace extract` reads it (the
+   corrected logs carry the corrected pose in both FLASER pose slots, and their ODOM lines are
+   re-chained from each scan's corrected pose: only the motion within one segment between two
+   scans is raw) and converts the run with it (`carmen2rawlog`),
 3. runs `pf-localization` started at the known first pose, and from no prior (uniform over the
    grid's free cells) with 5,000 and 40,000 particles, and parses the estimates from its log
    (it writes no pose file),
@@ -35,11 +35,12 @@ Needs (installs nothing): MRPT's applications, on Debian 12 `apt-get install mrp
 `examples/place_of_pose`); the logs under $LPLACE_DATA (else ../shared/data).
 Not run by CI. Runs `pf-localization` under `nice -n 10`.
 
-    scripts/mrpt_side_by_side.py                      # both buildings, all protocols, 1 run each
+    scripts/mrpt_side_by_side.py                      # every building, all protocols, 1 run each
     scripts/mrpt_side_by_side.py --runs 3 --buildings intel --particles 5000
 """
 
 import argparse
+import gzip
 import json
 import math
 import os
@@ -55,8 +56,9 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 TOOLS = ("carmen2simplemap", "carmen2rawlog", "pf-localization")
 
-# The buildings of the README's table: the log, lplace's surveyed map (its extents are the truth
-# and the places looked up), the extractor config and the laser as the log does not state it.
+# The buildings of the README's table: the log (a gzipped one is unpacked into the work
+# directory), lplace's surveyed map (its extents are the truth and the places looked up), the
+# extractor config and the laser's angle between beams (only Freiburg 101's log states it).
 BUILDINGS = {
     "intel": {
         "name": "Intel Research Lab",
@@ -72,10 +74,23 @@ BUILDINGS = {
         "config": "config/freiburg-101.ron",
         "resolution_deg": 0.5,
     },
+    "seattle": {
+        "name": "Seattle",
+        "log": "carmen-corrected-logs/seattle-corrected.log.gz",
+        "map": "maps/seattle.map",
+        "config": "config/seattle.ron",
+        "resolution_deg": 0.5,
+    },
 }
 
+# lplace's row is the README's "surveyed on the same log" row: the same rules and tracker on
+# every building, only the map and the extractor config differ.
+RULES = "rules/intel.lpl"
+TRACKER = "config/intel-tracker.ron"
+
 # Readings at or beyond this are no-returns (the logs write 81.83 / 81.91 m); MRPT's default
-# laser is 0.5 degrees per beam and 81 m, so both are written as PARAM lines.
+# laser is 0.5 degrees per beam and 81 m, so both are written as PARAM lines, the only ones the
+# rewritten logs carry (Intel's log states no resolution, Seattle's has no PARAM line at all).
 NO_RETURN_M = 80.0
 
 
@@ -110,63 +125,91 @@ def cargo_targets():
 # ---------------------------------------------------------------- the log, rewritten for MRPT
 
 
-def read_log(path):
-    """The ODOM poses (t, x, y, th) and the FLASER scans (ranges, corrected pose, t)."""
-    odom, scans = [], []
-    with open(path) as f:
-        for n, line in enumerate(f, 1):
-            tok = line.split()
-            if not tok:
-                continue
-            try:
-                if tok[0] == "ODOM":
-                    x, y, th = map(float, tok[1:4])
-                    odom.append((float(tok[7]), x, y, th))
-                elif tok[0] == "FLASER":
-                    k = int(tok[1])
-                    ranges = tok[2:2 + k]
-                    x, y, th = map(float, tok[2 + k:5 + k])
-                    scans.append((ranges, (x, y, th), float(tok[8 + k])))
-            except (ValueError, IndexError) as e:
-                raise ScriptError(f"{path}:{n}: unreadable {tok[0]} line ({e})")
-    if not odom or not scans:
-        raise ScriptError(f"{path}: no ODOM or no FLASER lines")
-    return odom, scans
+def open_log(path):
+    """The log as text, unpacked when its name ends in .gz."""
+    return gzip.open(path, "rt") if path.suffix == ".gz" else open(path)
 
 
 def wrap(a):
     return math.atan2(math.sin(a), math.cos(a))
 
 
-def odom_at(odom, t, i):
-    """The raw odometry pose at time t, interpolated between ODOM lines; i is a search hint
-    (the index of the last ODOM at or before the previous scan). Returns (pose, new hint)."""
-    while i + 1 < len(odom) and odom[i + 1][0] <= t:
-        i += 1
-    t0, x0, y0, a0 = odom[i]
-    if i + 1 >= len(odom) or t <= t0:
-        return (x0, y0, a0), i
-    t1, x1, y1, a1 = odom[i + 1]
-    s = (t - t0) / (t1 - t0) if t1 > t0 else 0.0
-    return (x0 + s * (x1 - x0), y0 + s * (y1 - y0), wrap(a0 + s * wrap(a1 - a0))), i
+def relative(a, b):
+    """Pose b in the frame of pose a."""
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return (c * dx + s * dy, -s * dx + c * dy, wrap(b[2] - a[2]))
 
 
-def write_logs(b, odom, scans, work):
-    """Two CARMEN logs for MRPT: the survey (corrected pose, for the grid) and the run (raw
-    odometry in both pose slots, so the laser sits at the robot's origin as in the survey)."""
+def compose(a, d):
+    """Pose a moved by the increment d, expressed in a's frame."""
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return (a[0] + c * d[0] - s * d[1], a[1] + s * d[0] + c * d[1], wrap(a[2] + d[2]))
+
+
+def read_log(path):
+    """The FLASER scans (ranges, corrected pose, t, raw odometry increment since the scan
+    before, None for the first), the increment as `lplace extract` reads it (src/io/
+    carmen_stream.rs): (last ODOM before the scan) relative to the previous scan's odom pose,
+    the ODOM chain restarting from that pose after every scan. An ODOM restating the previous
+    scan's odom pose is that restart, not a reading of no motion; a segment with no other ODOM
+    falls back to the two scans' poses (Seattle: one of 240, an 80 degree turn)."""
+    scans, prev, last = [], None, None
+    with open_log(path) as f:
+        for n, line in enumerate(f, 1):
+            tok = line.split()
+            if not tok:
+                continue
+            try:
+                if tok[0] == "ODOM":
+                    pose = tuple(map(float, tok[1:4]))
+                    if pose != prev:
+                        last = pose
+                elif tok[0] == "FLASER":
+                    k = int(tok[1])
+                    ranges = tok[2:2 + k]
+                    corrected = tuple(map(float, tok[2 + k:5 + k]))
+                    odom = tuple(map(float, tok[5 + k:8 + k]))
+                    inc = None if prev is None else relative(prev, last or odom)
+                    scans.append((ranges, corrected, float(tok[8 + k]), inc))
+                    prev, last = odom, None
+            except (ValueError, IndexError) as e:
+                raise ScriptError(f"{path}:{n}: unreadable {tok[0]} line ({e})")
+    if not scans:
+        raise ScriptError(f"{path}: no FLASER lines")
+    return scans
+
+
+def beam_param(b, beams):
+    """PARAM laser_front_laser_resolution for MRPT, which spreads the beams evenly over
+    resolution x beams, centred ahead: resolution x (beams - 1) / beams gives the log's angle
+    between beams (361 beams over 180 degrees exactly; 180 or 360 beams, whose last is one step
+    short of the left, a fan turned half a step to the left)."""
+    return b["resolution_deg"] * (beams - 1) / beams
+
+
+def write_logs(b, scans, work):
+    """Two CARMEN logs for MRPT: the survey (corrected pose, for the grid) and the run (the raw
+    odometry composed from the first corrected pose, in both pose slots so that the laser sits
+    at the robot's origin as in the survey)."""
+    beams = {len(r) for r, _, _, _ in scans}
+    if len(beams) != 1:
+        raise ScriptError(f"{b['name']}: scans of {sorted(beams)} beams; MRPT takes one laser")
     params = [
-        f"PARAM laser_front_laser_resolution {b['resolution_deg']} nohost 0",
+        f"PARAM laser_front_laser_resolution {beam_param(b, beams.pop()):.9f} nohost 0",
         f"PARAM robot_front_laser_max {NO_RETURN_M} nohost 0",
     ]
     survey, raw = work / "survey.log", work / "run.log"
-    i = 0
+    odom = scans[0][1]
     with open(survey, "w") as fs, open(raw, "w") as fr:
         for f in (fs, fr):
             f.write("\n".join(params) + "\n")
-        for ranges, (x, y, th), t in scans:
+        for ranges, (x, y, th), t, inc in scans:
             head = f"FLASER {len(ranges)} {' '.join(ranges)}"
             fs.write(f"{head} {x} {y} {th} {x} {y} {th} {t} nohost {t}\n")
-            (ox, oy, oa), i = odom_at(odom, t, i)
+            if inc is not None:
+                odom = compose(odom, inc)
+            ox, oy, oa = odom
             fr.write(f"{head} {ox} {oy} {oa} {ox} {oy} {oa} {t} nohost {t}\n")
     run(["carmen2simplemap", "-q", "-w", "-i", survey, "-o", work / "survey.simplemap"])
     run(["carmen2rawlog", "-q", "-w", "-i", raw, "-o", work / "run.rawlog"])
@@ -253,8 +296,8 @@ def init_known(first):
 
 def init_uniform(scans):
     """Uniform over the grid's free cells within the survey's bounding box and 20 m around."""
-    xs = [p[0] for _, p, _ in scans]
-    ys = [p[1] for _, p, _ in scans]
+    xs = [p[0] for _, p, _, _ in scans]
+    ys = [p[1] for _, p, _, _ in scans]
     return (f"init_PDF_mode=0\ninit_PDF_min_x={min(xs) - 20}\ninit_PDF_max_x={max(xs) + 20}\n"
             f"init_PDF_min_y={min(ys) - 20}\ninit_PDF_max_y={max(ys) + 20}\n"
             "init_PDF_min_yaw_deg=-180\ninit_PDF_max_yaw_deg=180")
@@ -307,13 +350,25 @@ def score(truth, estimate, spread, args):
     return at, dec, right, cw
 
 
+def unpacked(log, work):
+    """The log itself, or a .gz log unpacked into the work directory (`lplace extract` reads
+    plain text)."""
+    if log.suffix != ".gz":
+        return log
+    plain = work / log.stem
+    with gzip.open(log, "rb") as src, open(plain, "wb") as dst:
+        shutil.copyfileobj(src, dst)
+    return plain
+
+
 def lplace_row(b, lplace, log):
-    """lplace's surveyed-map row: extract and evaluate as the README's buildings table does."""
+    """lplace's surveyed-map row: extract and evaluate as the README's buildings table does
+    (the "surveyed on the same log" row: RULES and TRACKER, the building's map)."""
     t0 = time.perf_counter()
     frames = run([lplace, "extract", "--from", "carmen", log, "--map", REPO / b["map"],
                   "--config", REPO / b["config"]], cwd=REPO).stdout
-    p = run([lplace, "eval", "-", "--map", REPO / b["map"], "--rules", REPO / "rules/intel.lpl",
-             "--tracker", REPO / "config/intel-tracker.ron", "--only-summary",
+    p = run([lplace, "eval", "-", "--map", REPO / b["map"], "--rules", REPO / RULES,
+             "--tracker", REPO / TRACKER, "--only-summary",
              "--summary", "json"], input=frames, cwd=REPO)
     elapsed = time.perf_counter() - t0
     s = json.loads(p.stdout)
@@ -362,16 +417,16 @@ def building(key, args, lplace, lookup, work):
         return []
     wdir = work / key
     wdir.mkdir(parents=True, exist_ok=True)
-    odom, scans = read_log(log)
-    simplemap, rawlog = write_logs(b, odom, scans, wdir)
-    truth = places_of(lookup, b["map"], [(p[0], p[1]) for _, p, _ in scans])
-    own = lplace_row(b, lplace, log)
+    scans = read_log(log)
+    simplemap, rawlog = write_logs(b, scans, wdir)
+    truth = places_of(lookup, b["map"], [(p[0], p[1]) for _, p, _, _ in scans])
+    own = lplace_row(b, lplace, unpacked(log, wdir))
     # Both scored on the same scans: the extents looked up here must hold what extract labelled.
     at_place = sum(t is not None for t in truth)
     if own[0] != at_place:
         raise ScriptError(f"{b['name']}: lplace scores {own[0]} scans at a place, the "
                           f"lookup finds {at_place}")
-    rows = [row(b["name"], "lplace", "surveyed map, grid tracker", [own])]
+    rows = [row(b["name"], "lplace", f"surveyed map, {RULES}, grid tracker", [own])]
     protocols = [("known first pose", args.known_particles, init_known(scans[0][1]))]
     protocols += [("no prior", n, init_uniform(scans)) for n in args.particles]
     for label, n, init in protocols:
@@ -395,7 +450,7 @@ def building(key, args, lplace, lookup, work):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--buildings", default="intel,freiburg-101",
+    ap.add_argument("--buildings", default=",".join(BUILDINGS),
                     help="comma-separated: " + ", ".join(BUILDINGS))
     ap.add_argument("--particles", default="5000,40000",
                     help="particle counts of the no-prior runs (comma-separated)")
