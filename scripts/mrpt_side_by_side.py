@@ -56,9 +56,9 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 TOOLS = ("carmen2simplemap", "carmen2rawlog", "pf-localization")
 
-# The buildings of the README's table: the log (a gzipped one is unpacked into the work
-# directory), lplace's surveyed map (its extents are the truth and the places looked up), the
-# extractor config and the laser's angle between beams (only Freiburg 101's log states it).
+# The buildings of the README's table: the log (plain or gzipped; `lplace extract` reads
+# either, and the copies rewritten for MRPT are plain), lplace's surveyed map (its extents are
+# the truth and the places looked up), the extractor config and the laser's angle between beams (only Freiburg 101's log states it).
 BUILDINGS = {
     "intel": {
         "name": "Intel Research Lab",
@@ -350,17 +350,6 @@ def score(truth, estimate, spread, args):
     return at, dec, right, cw
 
 
-def unpacked(log, work):
-    """The log itself, or a .gz log unpacked into the work directory (`lplace extract` reads
-    plain text)."""
-    if log.suffix != ".gz":
-        return log
-    plain = work / log.stem
-    with gzip.open(log, "rb") as src, open(plain, "wb") as dst:
-        shutil.copyfileobj(src, dst)
-    return plain
-
-
 def lplace_row(b, lplace, log):
     """lplace's surveyed-map row: extract and evaluate as the README's buildings table does
     (the "surveyed on the same log" row: RULES and TRACKER, the building's map)."""
@@ -420,7 +409,7 @@ def building(key, args, lplace, lookup, work):
     scans = read_log(log)
     simplemap, rawlog = write_logs(b, scans, wdir)
     truth = places_of(lookup, b["map"], [(p[0], p[1]) for _, p, _, _ in scans])
-    own = lplace_row(b, lplace, unpacked(log, wdir))
+    own = lplace_row(b, lplace, log)
     # Both scored on the same scans: the extents looked up here must hold what extract labelled.
     at_place = sum(t is not None for t in truth)
     if own[0] != at_place:
