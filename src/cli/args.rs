@@ -74,8 +74,9 @@ pub enum Command {
     /// `truth.place`, or --labels) and write them into the map, changing nothing else.
     ///
     /// Prints per place the scans used and the spread of its readings on stderr, and warns on
-    /// places with few scans. With --fit first-visits, fits on each place's first visit and
-    /// prints how the written map does on the later visits. The stream is read as `eval` reads
+    /// places with few scans. With --fit first-visits, fits on each place's first visit,
+    /// prints how the written map does on the later visits and warns on places most of whose
+    /// later readings lie outside the fitted ranges. The stream is read as `eval` reads
     /// it. Exit 0, 3 when some records were rejected (each reported on stderr as
     /// STREAM:LINE: reason), 2 for bad map, rules or labels, 1 when a file cannot be read or
     /// written.

@@ -7,7 +7,8 @@
 //! `STREAM:LINE: reason` and makes the exit code 3, as in `eval`) and prints: per place the scans
 //! used and the spread on stderr, a warning on
 //! places with too few scans, and with `--fit first-visits` how the map so written does on the
-//! later visits (held-out frames).
+//! later visits (held-out frames) and a warning on places most of whose later readings lie
+//! outside the fitted ranges.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -16,6 +16,10 @@
 //!   [`NEAR_M`] to [`FAR_M`].
 //!
 //! A place with no `wall`/`open`/`door` statement has no derived `free`.
+//!
+//! An `open` side's range holds from anywhere in the extent only if the corridor beyond spans
+//! the side; [`side_reached`] measures how much of it the adjoining places' boxes cover, and
+//! `lplace check` warns below half (such a side is a `door`).
 
 use super::place::{Expected, Extent, Place};
 use crate::core::compass::DIRECTIONS;
@@ -80,6 +84,53 @@ pub fn free_range(place: &Place, dir: &str) -> Option<Expected> {
         lo: lo.ln(),
         hi: hi.max(lo).ln(),
     })
+}
+
+/// Extents whose facing edges lie this close adjoin (about a wall's thickness), metres.
+pub const ADJOINING_M: f64 = 0.5;
+
+/// The share of place `at`'s side towards cardinal direction `dir` along which the plain boxes
+/// of other places adjoin it, in `[0, 1]`; `None` when `dir` is not cardinal, `at` is not a
+/// plain box, or nothing adjoins that side (a corridor going on beyond the map says nothing).
+/// An `open` side expects a long view from anywhere in the extent ([`free_range`]), which
+/// holds only where the corridor beyond spans the side; one reaching along less than half of
+/// it is an opening in a wall, a `door`.
+pub fn side_reached(places: &[Place], at: usize, dir: &str) -> Option<f64> {
+    let plain = |p: &Place| match (p.extent, &p.outline) {
+        (Extent::Box { x0, y0, x1, y1 }, None) => {
+            Some((x0.min(x1), y0.min(y1), x0.max(x1), y0.max(y1)))
+        }
+        _ => None,
+    };
+    let (x0, y0, x1, y1) = plain(places.get(at)?)?;
+    // (this side's coordinate, its span along the side, and per neighbour the same two).
+    let (edge, lo, hi) = match dir {
+        "East" => (x1, y0, y1),
+        "West" => (x0, y0, y1),
+        "North" => (y1, x0, x1),
+        "South" => (y0, x0, x1),
+        _ => return None,
+    };
+    let mut reached = 0.0;
+    let mut any = false;
+    for (k, q) in places.iter().enumerate() {
+        let Some((a0, b0, a1, b1)) = plain(q).filter(|_| k != at) else {
+            continue;
+        };
+        let (facing, along) = match dir {
+            "East" => (a0, (b0, b1)),
+            "West" => (a1, (b0, b1)),
+            "North" => (b0, (a0, a1)),
+            _ => (b1, (a0, a1)),
+        };
+        let overlap = hi.min(along.1) - lo.max(along.0);
+        if (facing - edge).abs() <= ADJOINING_M && overlap > 0.0 {
+            reached += overlap;
+            any = true;
+        }
+    }
+    let side = hi - lo;
+    (any && side > 0.0).then(|| (reached / side).min(1.0))
 }
 
 /// The longest straight run across the place's extent along `deg` (its bounding box for a

@@ -173,8 +173,9 @@ impl<'m> Checker<'m> {
 }
 
 /// Checks the map's `wall` and `corner` directions against the rule set's `Dir` domain (when it
-/// declares one), and warns at each place that lacks parameters the rules read elsewhere. The
-/// diagnostics point into the **map** file.
+/// declares one), and warns at each place that lacks parameters the rules read elsewhere and at
+/// each `open` side the places beyond reach along less than half of. The diagnostics point into
+/// the **map** file.
 pub fn check_map_against_rules(map: &Map, rules: &RuleSet) -> Vec<Diagnostic> {
     let mut out = Vec::new();
     if let Some(dirs) = rules.domains.get("Dir") {
@@ -190,6 +191,32 @@ pub fn check_map_against_rules(map: &Map, rules: &RuleSet) -> Vec<Diagnostic> {
         }
     }
     out.extend(places_lacking_params(map, rules));
+    out.extend(open_sides_partly_reached(map));
+    out
+}
+
+/// A warning at each place with an `open` side that the places beyond reach along less than
+/// half of ([`crate::map::expect::side_reached`]): the description promises a long view that
+/// way from anywhere in the place, and from most of it the robot reads a wall.
+fn open_sides_partly_reached(map: &Map) -> Vec<Diagnostic> {
+    let places = map.places();
+    let mut out = Vec::new();
+    for (i, p) in places.iter().enumerate() {
+        for dir in p.opens.keys() {
+            let Some(share) = crate::map::expect::side_reached(places, i, dir) else {
+                continue;
+            };
+            if share < 0.5 {
+                out.push(Diagnostic::warning(
+                    DiagnosticKind::OpenSidePartlyReached {
+                        dir: dir.clone(),
+                        percent: (100.0 * share).round() as u32,
+                    },
+                    p.span,
+                ));
+            }
+        }
+    }
     out
 }
 

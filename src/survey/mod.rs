@@ -291,6 +291,53 @@ pub fn fit(
         .collect()
 }
 
+/// Per fitted place (in the order of `fits`), how its fit holds on the place's later visits:
+/// `(within, readings)`, the readings of fitted parameters taken on frames of visits after the
+/// first (gap `gap_m`, as [`visits`]) and how many of them lie within the fitted range. `None`
+/// for a place never visited again. A fit from one visit holds only what that visit saw; this
+/// says how much of the next visits that is.
+pub fn later_within(
+    frames: &[FrameRecord],
+    labels: &[Option<String>],
+    links: &[ParamLink],
+    fits: &[PlaceFit],
+    gap_m: f64,
+) -> Vec<Option<(usize, usize)>> {
+    let visit = visits(frames, labels, gap_m);
+    let index: BTreeMap<&str, usize> = fits
+        .iter()
+        .enumerate()
+        .map(|(k, f)| (f.place.as_str(), k))
+        .collect();
+    let mut out = vec![None; fits.len()];
+    for ((f, label), v) in frames.iter().zip(labels).zip(&visit) {
+        let (Some(&k), Some(1..)) = (label.as_deref().and_then(|p| index.get(p)), v) else {
+            continue;
+        };
+        let (Some(fit), Some(slot)) = (fits.get(k), out.get_mut(k)) else {
+            continue;
+        };
+        let (within, readings) = slot.get_or_insert((0, 0));
+        for p in &f.percepts {
+            let Some(value) = p.value.filter(|v| v.is_finite()) else {
+                continue;
+            };
+            for link in links.iter().filter(|l| l.percept == p.name) {
+                let key = link.keyed.then(|| p.args.join(", "));
+                let range = fit
+                    .params
+                    .iter()
+                    .find(|q| q.name == link.param && q.key == key);
+                if let Some(q) = range {
+                    *readings += 1;
+                    *within += usize::from((q.lo..=q.hi).contains(&value));
+                }
+            }
+        }
+    }
+    out
+}
+
 /// Steps every frame through `run` — the per-frame loop of `lplace eval`: the engine,
 /// conditioned on the record's `region` when it names one, then the run's tracker — and returns
 /// the decisions, one per frame. Percepts a frame cannot use are left out of it.
@@ -587,6 +634,44 @@ mod tests {
         let all = fit(&frames, &labels, &links, Protocol::All, &cfg);
         assert_eq!(all[0].scans, 15);
         assert_eq!((all[0].params[0].lo, all[0].params[0].hi), (2.0, 100.0));
+    }
+
+    #[test]
+    fn later_visits_count_the_readings_within_the_first_visits_ranges() {
+        let links = [ParamLink {
+            percept: "w".into(),
+            param: "W".into(),
+            keyed: false,
+        }];
+        // A: first visit 1..=10 (fitted 1 .. 9), 3 m at B (one visit only), A again with five
+        // readings of which 5 and 9 lie within 1 .. 9 (the ends count) and a NaN is no reading.
+        let mut frames = Vec::new();
+        let mut labels = Vec::new();
+        for v in 1..=10 {
+            frames.push(frame(0.1, &[("w", "", f64::from(v))]));
+            labels.push(Some("A".to_owned()));
+        }
+        for _ in 0..3 {
+            frames.push(frame(1.0, &[("w", "", 50.0)]));
+            labels.push(Some("B".to_owned()));
+        }
+        for v in [5.0, 100.0, 9.0, 0.5, 9.5, f64::NAN] {
+            frames.push(frame(0.1, &[("w", "", v)]));
+            labels.push(Some("A".to_owned()));
+        }
+        let cfg = SurveyConfig::default();
+        let first = fit(&frames, &labels, &links, Protocol::FirstVisits, &cfg);
+        assert_eq!((first[0].params[0].lo, first[0].params[0].hi), (1.0, 9.0));
+        let later = later_within(&frames, &labels, &links, &first, cfg.visit_gap_m);
+        assert_eq!(later, vec![Some((2, 5)), None]);
+        // A parameter the fit does not have is no reading either.
+        let other = [ParamLink {
+            percept: "w".into(),
+            param: "X".into(),
+            keyed: false,
+        }];
+        let none = later_within(&frames, &labels, &other, &first, cfg.visit_gap_m);
+        assert_eq!(none, vec![Some((0, 0)), None]);
     }
 
     #[test]

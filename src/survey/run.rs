@@ -9,8 +9,8 @@ use std::collections::BTreeMap;
 use std::io::BufRead;
 
 use super::{
-    decide_all, fit, links_from_rules, visits, write_params, ParamLink, PlaceFit, Protocol, Score,
-    SurveyConfig, SurveyError,
+    decide_all, fit, later_within, links_from_rules, visits, write_params, ParamLink, PlaceFit,
+    Protocol, Score, SurveyConfig, SurveyError,
 };
 use crate::engine::query::set_names;
 use crate::engine::tracker::TrackerConfig;
@@ -28,6 +28,9 @@ use crate::syntax::{parse_map, parse_rules};
 
 /// The warning a place fitted from fewer than `min_scans` frames carries.
 const FEW_SCANS: &str = "few scans, the fit is unreliable";
+
+/// The warning a first-visit fit carries when most of the later visits' readings lie outside it.
+const LATER_OUTSIDE: &str = "most readings of the later visits lie outside the fitted ranges";
 
 /// Records read from a stream: the accepted ones, and each line that was rejected.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -159,12 +162,22 @@ pub struct PlaceReport {
     pub spread: f64,
     /// Fitted from fewer than the configuration's `min_scans` frames.
     pub few_scans: bool,
+    /// With [`Protocol::FirstVisits`], the readings of the later visits within the fitted
+    /// ranges and all of them ([`later_within`]); `None` otherwise, or if the place was not
+    /// visited again.
+    pub later: Option<(usize, usize)>,
 }
 
 impl PlaceReport {
-    /// The warning about this place's fit, if any.
+    /// The warning about this place's fit, if any: too few scans, else (first-visit fits) most
+    /// of the later visits' readings outside the fitted ranges — the fit does not describe the
+    /// place as the robot meets it again.
     pub fn warning(&self) -> Option<&'static str> {
-        self.few_scans.then_some(FEW_SCANS)
+        if self.few_scans {
+            return Some(FEW_SCANS);
+        }
+        let outside = self.later.is_some_and(|(within, n)| 2 * within < n);
+        outside.then_some(LATER_OUTSIDE)
     }
 }
 
@@ -314,13 +327,21 @@ impl Survey {
             });
         }
         let fits = fit(frames, &labels, &self.links, protocol, &self.cfg);
+        let later = match protocol {
+            Protocol::All => vec![None; fits.len()],
+            Protocol::FirstVisits => {
+                later_within(frames, &labels, &self.links, &fits, self.cfg.visit_gap_m)
+            }
+        };
         let report = fits
             .iter()
-            .map(|f| PlaceReport {
+            .zip(later)
+            .map(|(f, later)| PlaceReport {
                 place: f.place.clone(),
                 scans: f.scans,
                 spread: f.spread(),
                 few_scans: f.scans < self.cfg.min_scans,
+                later,
             })
             .collect();
         let map_text = write_params(&self.map.text, &self.map_ast, &fits)?;

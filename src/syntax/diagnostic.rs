@@ -527,6 +527,15 @@ pub enum DiagnosticKind {
         /// What it lacks, comma-separated (`A, L` or `free(North)`).
         params: String,
     },
+    /// An `open D` side along which the extents beyond it reach over less than half its
+    /// length (a warning): from most of the place that way reads a wall.
+    #[error("`open {dir}`: the places beyond this side reach along {percent} % of it")]
+    OpenSidePartlyReached {
+        /// The direction.
+        dir: String,
+        /// The share of the side the adjoining extents cover, per cent.
+        percent: u32,
+    },
     /// A wall or corner direction that is not a value of the rule file's `Dir` domain.
     #[error("direction `{name}` is not a value of the rules' `Dir` domain")]
     UnknownDirection {
@@ -674,6 +683,9 @@ impl DiagnosticKind {
             K::UnknownDirection { .. } => "use one of the values of `domain Dir` in the rule file",
             K::PlaceLacksParameters { .. } => {
                 "add the `param …` lines to the place (as `lplace survey` writes them); without them the rules that read them give it no evidence"
+            }
+            K::OpenSidePartlyReached { .. } => {
+                "a corridor that leaves through part of a side is `door D`; `open D` expects a long view from anywhere in the place"
             }
             K::DuplicateMapName => "keep one `map name;` line",
             K::DuplicateMapStatement { .. } => "keep one of the two statements",

@@ -126,7 +126,18 @@ fn first_visits_fit_on_the_first_and_score_the_later_ones() {
     let err_lines: Vec<&str> = err.lines().collect();
     assert_eq!(err_lines.len(), 3, "{err}");
     assert!(err_lines[0].starts_with("survey: P0: 10 scan(s)"));
+    // P0's later readings (300°, 9 m) all lie outside its first-visit ranges (10–90°,
+    // 1–1.8 m); P1 is not visited again, and its warning is its five scans.
+    assert!(
+        err_lines[0]
+            .ends_with("WARNING: most readings of the later visits lie outside the fitted ranges"),
+        "{err}"
+    );
     assert!(err_lines[1].starts_with("survey: P1: 5 scan(s)"));
+    assert!(
+        err_lines[1].ends_with("WARNING: few scans, the fit is unreliable"),
+        "{err}"
+    );
     // The later visit is P0's second: its 5 frames are the held-out ones.
     assert!(
         err_lines[2].starts_with("survey: later visits (held out): 5 scan(s) at a place"),

@@ -204,6 +204,45 @@ fn every_bundled_map_still_loads() {
     }
 }
 
+#[test]
+fn an_open_side_the_places_beyond_reach_along_less_than_half_of_is_warned_about() {
+    use lplace::map::expect::side_reached;
+    use lplace::rules::check_map_against_rules;
+    use lplace::syntax::diagnostic::Severity;
+    // J is 6 m tall; C adjoins its West side over y 2 .. 4.4 (2.4 m: 40 %), S its South side
+    // over the whole 6 m (the 0.3 m gap is under a wall's thickness), nothing its East side.
+    let text = "place J junction at (3, 3) extent box (0, 0, 6, 6) { open West; open South; open East; }\n\
+                place C corridor at (-3, 3) extent box (-6, 2, 0, 4.4);\n\
+                place S corridor at (3, -3) extent box (-1, -6, 7, -0.3);\n\
+                place R room at (3, 9) extent box (0, 6, 6, 9) rotated 10;\n";
+    let m = map(text);
+    let near = |got: Option<f64>, want: f64| got.is_some_and(|g| close(g, want));
+    assert!(near(side_reached(m.places(), 0, "West"), 0.4));
+    assert!(near(side_reached(m.places(), 0, "South"), 1.0));
+    assert_eq!(side_reached(m.places(), 0, "East"), None);
+    // A turned box neither is checked nor counts as a neighbour; diagonals are not sides.
+    assert_eq!(side_reached(m.places(), 0, "North"), None);
+    assert_eq!(side_reached(m.places(), 3, "South"), None);
+    assert_eq!(side_reached(m.places(), 0, "NorthWest"), None);
+    let rules = lplace::syntax::parse_rules("predicate p(time);").expect("rules parse");
+    let set = lplace::rules::check_rules(&rules, &m).expect("rules check");
+    let d = check_map_against_rules(&m, &set);
+    assert_eq!(d.len(), 1, "{d:?}");
+    assert_eq!(d[0].severity, Severity::Warning);
+    assert_eq!(
+        d[0].kind,
+        DiagnosticKind::OpenSidePartlyReached {
+            dir: "West".into(),
+            percent: 40
+        }
+    );
+    assert!(text[d[0].span.start..d[0].span.end].starts_with("place J"));
+    // Written as a door, the same side is fine.
+    let fixed = map(&text.replace("open West;", "door West;"));
+    let set = lplace::rules::check_rules(&rules, &fixed).expect("rules check");
+    assert!(check_map_against_rules(&fixed, &set).is_empty());
+}
+
 proptest! {
     /// A polygon written as a box's four corners holds exactly the box's points, and a box turned
     /// by 0° is the box.

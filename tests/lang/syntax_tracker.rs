@@ -28,11 +28,16 @@ fn errors(text: &str) -> Vec<(DiagnosticKind, String)> {
 #[test]
 fn the_laser_rules_track_as_the_intel_tracker_file() {
     let file = TrackerConfig::from_ron(&repo("config/intel-tracker.ron")).expect("tracker file");
-    for rules in ["rules/intel.lpl", "rules/laser.lpl"] {
+    // rules/laser.lpl takes a place on less support of its own (its comment says why).
+    let laser = TrackerConfig {
+        min_support: 0.05,
+        ..file
+    };
+    for (rules, want) in [("rules/intel.lpl", &file), ("rules/laser.lpl", &laser)] {
         let map = SourceFile::new("maps/intel.map", repo("maps/intel.map"));
         let src = SourceFile::new(rules, repo(rules));
         let engine = Engine::load_with(&map, &src, &CompileOptions::default()).expect("loads");
-        assert_eq!(engine.tracker_config(), file, "{rules}");
+        assert_eq!(&engine.tracker_config(), want, "{rules}");
     }
     let office = Engine::office().expect("bundled engine");
     assert!(office.rules().tracker.is_none());
