@@ -96,7 +96,8 @@ impl FuzzyGrid {
             };
         }
         let cuts = Cut::new(&self.cfg, max);
-        let whole = |v: f32| if v >= cuts.top { 1.0 } else { 0.0 };
+        let whole = |v: f32, cut: f32| if v >= cut { 1.0 } else { 0.0 };
+        let hard = |v: f32| (if v >= cuts.cog { v } else { 0.0 }, whole(v, cuts.top));
         let s = match (self.cfg.cuts, cuts.ramp) {
             (Cuts::Ramp, Some(inv)) => self.sums(&row_max, &cuts, |v| {
                 (
@@ -104,12 +105,17 @@ impl FuzzyGrid {
                     ((v - cuts.top) * inv).clamp(0.0, 1.0),
                 )
             }),
-            (Cuts::Ramp, None) => {
-                self.sums(&row_max, &cuts, |v| ((v - cuts.cog).max(0.0), whole(v)))
-            }
-            (Cuts::Hard, _) => self.sums(&row_max, &cuts, |v| {
-                (if v >= cuts.cog { v } else { 0.0 }, whole(v))
+            (Cuts::Ramp, None) => self.sums(&row_max, &cuts, |v| {
+                ((v - cuts.cog).max(0.0), whole(v, cuts.top))
             }),
+            (Cuts::Hard, _) => self.sums(&row_max, &cuts, hard),
+        };
+        // A ramp from the maximum itself (`cog_cut` 1) weighs every cell 0: the cells at the
+        // maximum are then the region, whole.
+        let s = if s.w > 0.0 {
+            s
+        } else {
+            self.sums(&row_max, &cuts, hard)
         };
         let c = self.cell as f64;
         let x = self.x0 as f64 + (s.x / s.w + 0.5) * c;
@@ -287,6 +293,25 @@ mod tests {
         let step =
             (pair(Cuts::Ramp, 0.501).estimate().x - pair(Cuts::Ramp, 0.499).estimate().x).abs();
         assert!(step < 1e-3, "{step}");
+    }
+
+    #[test]
+    fn a_ramp_from_the_maximum_takes_the_cells_at_the_maximum() {
+        let cfg = GridConfig {
+            cuts: Cuts::Ramp,
+            cog_cut: 1.0,
+            ..GridConfig::default()
+        };
+        let mut g = FuzzyGrid::new(cfg, [0.0, 0.0, 2.0, 2.0]).unwrap();
+        g.possibilities_mut().fill(0.2);
+        g.possibilities_mut()[5 * 20 + 7] = 1.0;
+        g.possibilities_mut()[5 * 20 + 8] = 1.0;
+        // Both cells at the maximum, weighed alike: halfway between their centres.
+        let e = g.estimate();
+        assert!(
+            (e.x - 0.8).abs() < 1e-5 && (e.y - 0.55).abs() < 1e-5,
+            "{e:?}"
+        );
     }
 
     #[test]
