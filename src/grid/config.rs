@@ -44,6 +44,21 @@ pub enum Dilation {
     Lukasiewicz,
 }
 
+/// How the estimate's cuts (`cog_cut`, `top_cut`) select cells ([`crate::grid::estimate`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Cuts {
+    /// A cell counts whole at or above the cut and not at all below it: the estimate jumps when
+    /// a cell's possibility crosses a cut, so a change of the inputs far below what they are
+    /// known to (a landmark moved by a millimetre) can move the run by a cell.
+    #[default]
+    Hard,
+    /// Weights fall linearly to 0 at the cut: the centre of gravity weighs `h − cut` (not `h`),
+    /// and a cell's share of the top region (its area, and its weight in the heading) is
+    /// `(h − top)/(max − top)` clamped to [0, 1]. Every step from the belief to the estimate is
+    /// then continuous in the belief.
+    Ramp,
+}
+
 /// A sensor model: the trapezoid `⟨r, Δ, α, 1, b⟩` put around a reading `r`.
 ///
 /// Widths grow with the reading (`core = core_abs + core_rel · |r|`, same for
@@ -164,6 +179,9 @@ pub struct GridConfig {
     /// Fraction of the maximum that defines the region whose centre of
     /// gravity is the position estimate. Default 0.5.
     pub cog_cut: f32,
+    /// Whether `cog_cut` and `top_cut` select cells whole or by a ramp ([`Cuts`]). Default
+    /// `Hard`.
+    pub cuts: Cuts,
     /// Fraction of the maximum that defines the *top region* whose area
     /// drives the reliability. Default 0.9.
     pub top_cut: f32,
@@ -217,6 +235,7 @@ impl Default for GridConfig {
             flush_below: 1e-9,
             floor: 1e-8,
             cog_cut: 0.5,
+            cuts: Cuts::Hard,
             top_cut: 0.9,
             reliability_area: 0.25,
             fix_reliability: 0.5,

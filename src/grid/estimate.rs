@@ -4,6 +4,11 @@
 //!   `cog_cut · h_max`, weighted by possibility. Cutting first keeps the long
 //!   low tail of a product-updated grid from pulling the estimate towards the
 //!   middle of the map.
+//! * Under [`Cuts::Ramp`](super::Cuts) the cuts weigh instead of select: the
+//!   centre of gravity weighs `h − cut` (0 below the cut), and a cell counts in
+//!   the top region (below) by its share `(h − top) / (h_max − top)` in [0, 1].
+//!   A cell crossing a cut then moves the estimate by as little as its
+//!   possibility moved, where a hard cut moves it by up to a cell.
 //! * Heading: circular mean of the heading-set centres of the *top region*
 //!   (below), weighted by `h · (1 − b)` (a cell that thinks its heading may be
 //!   anywhere says little); its mean resultant length `R̄ ∈ [0, 1]`
@@ -34,7 +39,7 @@
 //! ```
 
 use super::cells::raw_max;
-use super::FuzzyGrid;
+use super::{Cuts, FuzzyGrid, GridConfig};
 
 /// Rows whose maxima [`FuzzyGrid::estimate`] keeps on the stack (16 KiB);
 /// rows beyond are always summed.
@@ -90,48 +95,44 @@ impl FuzzyGrid {
                 height: 0.0,
             };
         }
-        let cut = self.cfg.cog_cut * max;
-        let top = self.cfg.top_cut * max;
-        let mut hw_max = 0.0f64;
-        let (mut sw, mut sx, mut sy, mut sc, mut ss) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
-        let mut n_top = 0usize;
-        let low_cut = if cut < top { cut } else { top };
-        for j in 0..self.ny {
-            if row_max.get(j).is_some_and(|&m| m < low_cut) {
-                continue;
-            }
-            let base = j * self.nx;
-            let row = &self.h[base..base + self.nx];
-            let (rw, rx, rt) = row_sums(row, cut, top);
-            if rt > 0 {
-                for (c, &v) in row.iter().enumerate() {
-                    if v >= top {
-                        let i = base + c;
-                        let wh = v * (1.0 - self.bias[i]);
-                        let (s, co) = self.theta[i].sin_cos();
-                        sc += (wh * co) as f64;
-                        ss += (wh * s) as f64;
-                        hw_max += v as f64;
-                    }
-                }
-            }
-            n_top += rt as usize;
-            sw += rw as f64;
-            sx += rx as f64;
-            sy += rw as f64 * j as f64;
-        }
-        let s = self.cell as f64;
-        let x = self.x0 as f64 + (sx / sw + 0.5) * s;
-        let y = self.y0 as f64 + (sy / sw + 0.5) * s;
-        let hw: f64 = sc.hypot(ss);
+        let cuts = Cut::new(&self.cfg, max);
+        let whole = |v: f32, cut: f32| if v >= cut { 1.0 } else { 0.0 };
+        let hard = |v: f32| (if v >= cuts.cog { v } else { 0.0 }, whole(v, cuts.top));
+        let s = match (self.cfg.cuts, cuts.ramp) {
+            (Cuts::Ramp, Some(inv)) => self.sums(&row_max, &cuts, |v| {
+                (
+                    (v - cuts.cog).max(0.0),
+                    ((v - cuts.top) * inv).clamp(0.0, 1.0),
+                )
+            }),
+            (Cuts::Ramp, None) => self.sums(&row_max, &cuts, |v| {
+                ((v - cuts.cog).max(0.0), whole(v, cuts.top))
+            }),
+            (Cuts::Hard, _) => self.sums(&row_max, &cuts, hard),
+        };
+        // A ramp from the maximum itself (`cog_cut` 1) weighs every cell 0: the cells at the
+        // maximum are then the region, whole.
+        let s = if s.w > 0.0 {
+            s
+        } else {
+            self.sums(&row_max, &cuts, hard)
+        };
+        let c = self.cell as f64;
+        let x = self.x0 as f64 + (s.x / s.w + 0.5) * c;
+        let y = self.y0 as f64 + (s.y / s.w + 0.5) * c;
+        let hw: f64 = s.cos.hypot(s.sin);
         // Normalise the resultant by the weight it could have had at most.
-        let heading_reliability = if hw_max > 0.0 {
-            (hw / hw_max).clamp(0.0, 1.0)
+        let heading_reliability = if s.heading_max > 0.0 {
+            (hw / s.heading_max).clamp(0.0, 1.0)
         } else {
             0.0
         };
-        let theta = if hw > 0.0 { ss.atan2(sc) as f32 } else { 0.0 };
-        let top_area = n_top as f32 * self.cell * self.cell;
+        let theta = if hw > 0.0 {
+            s.sin.atan2(s.cos) as f32
+        } else {
+            0.0
+        };
+        let top_area = s.top as f32 * self.cell * self.cell;
         let a = self.cfg.reliability_area;
         Estimate {
             x: x as f32,
@@ -143,17 +144,83 @@ impl FuzzyGrid {
             height: max,
         }
     }
+
+    /// Pass 2: the sums over the rows that reach a cut. `weigh(h)` gives a cell's weight in the
+    /// centre of gravity and its share of the top region.
+    fn sums(&self, row_max: &[f32; ROWS], cuts: &Cut, weigh: impl Fn(f32) -> (f32, f32)) -> Sums {
+        let mut s = Sums::default();
+        let low_cut = cuts.cog.min(cuts.top);
+        for j in 0..self.ny {
+            if row_max.get(j).is_some_and(|&m| m < low_cut) {
+                continue;
+            }
+            let base = j * self.nx;
+            let row = &self.h[base..base + self.nx];
+            let (rw, rx, rt) = row_sums(row, &weigh);
+            if rt > 0.0 {
+                for (c, &v) in row.iter().enumerate() {
+                    let share = weigh(v).1;
+                    if share > 0.0 {
+                        let i = base + c;
+                        let wh = v * share * (1.0 - self.bias[i]);
+                        let (sn, co) = self.theta[i].sin_cos();
+                        s.cos += (wh * co) as f64;
+                        s.sin += (wh * sn) as f64;
+                        s.heading_max += (v * share) as f64;
+                    }
+                }
+            }
+            s.top += rt as f64;
+            s.w += rw as f64;
+            s.x += rx as f64;
+            s.y += rw as f64 * j as f64;
+        }
+        s
+    }
 }
 
-/// Sums of one row: cut weight `Σ w`, first moment `Σ w·c` and the number of
-/// top cells, in four independent lanes so that the loop vectorises (a
+/// The estimate's cuts, as possibilities.
+struct Cut {
+    /// `cog_cut · max`.
+    cog: f32,
+    /// `top_cut · max`.
+    top: f32,
+    /// `1 / (max − top)`: the slope of a cell's share of the top region under [`Cuts::Ramp`];
+    /// `None` when the top region is the maximum alone (`top_cut` 1), where a cell at the
+    /// maximum counts whole.
+    ramp: Option<f32>,
+}
+
+impl Cut {
+    fn new(cfg: &GridConfig, max: f32) -> Self {
+        let (cog, top) = (cfg.cog_cut * max, cfg.top_cut * max);
+        let ramp = (max > top).then(|| 1.0 / (max - top));
+        Cut { cog, top, ramp }
+    }
+}
+
+/// Pass 2's sums: centre-of-gravity weight and moments (columns, rows), top-region share (in
+/// cells), and the heading resultant with the weight it could have had at most.
+#[derive(Default)]
+struct Sums {
+    w: f64,
+    x: f64,
+    y: f64,
+    top: f64,
+    cos: f64,
+    sin: f64,
+    heading_max: f64,
+}
+
+/// Sums of one row: centre-of-gravity weight `Σ w`, first moment `Σ w·c` and the top-region
+/// share, in four independent lanes so that the loop vectorises (a
 /// single f32 accumulator forces sequential adds). The moment needs no
 /// per-lane column index: `run` accumulates each lane's running weight once
 /// per chunk, so it counts every weight once for each chunk from its own to
 /// the last, and `Σ w·chunk = chunks · Σ w − run`; only adds remain in the
 /// loop, which keeps it in registers.
 #[inline]
-fn row_sums(row: &[f32], cut: f32, top: f32) -> (f32, f32, u32) {
+fn row_sums(row: &[f32], weigh: impl Fn(f32) -> (f32, f32)) -> (f32, f32, f32) {
     const L: usize = 4;
     let (mut lw, mut run, mut lt) = ([0.0f32; L], [0.0f32; L], [0.0f32; L]);
     let chunks = row.chunks_exact(L);
@@ -161,10 +228,10 @@ fn row_sums(row: &[f32], cut: f32, top: f32) -> (f32, f32, u32) {
     let n = chunks.len() as f32;
     for ch in chunks {
         for l in 0..L {
-            let v = ch[l];
-            lw[l] += if v >= cut { v } else { 0.0 };
+            let (w, t) = weigh(ch[l]);
+            lw[l] += w;
             run[l] += lw[l];
-            lt[l] += if v >= top { 1.0 } else { 0.0 };
+            lt[l] += t;
         }
     }
     let (mut rw, mut rx, mut rt) = (0.0f32, 0.0f32, 0.0f32);
@@ -177,10 +244,89 @@ fn row_sums(row: &[f32], cut: f32, top: f32) -> (f32, f32, u32) {
     }
     let off = row.len() - rest.len();
     for (l, &v) in rest.iter().enumerate() {
-        let w = if v >= cut { v } else { 0.0 };
+        let (w, t) = weigh(v);
         rw += w;
         rx += w * (off + l) as f32;
-        rt += if v >= top { 1.0 } else { 0.0 };
+        rt += t;
     }
-    (rw, rx, rt as u32)
+    (rw, rx, rt)
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::grid::{Cuts, FuzzyGrid, GridConfig};
+
+    /// A 20×20 grid of 0.1 m cells (cuts 0.5 and `top_cut`) with cell (7, 5) at 1 and its
+    /// right neighbour at `v`.
+    fn cut_pair(cuts: Cuts, top_cut: f32, v: f32) -> FuzzyGrid {
+        let cfg = GridConfig {
+            cuts,
+            cog_cut: 0.5,
+            top_cut,
+            ..GridConfig::default()
+        };
+        let mut g = FuzzyGrid::new(cfg, [0.0, 0.0, 2.0, 2.0]).unwrap();
+        g.possibilities_mut().fill(0.0);
+        g.possibilities_mut()[5 * 20 + 7] = 1.0;
+        g.possibilities_mut()[5 * 20 + 8] = v;
+        g
+    }
+
+    fn pair(cuts: Cuts, v: f32) -> FuzzyGrid {
+        cut_pair(cuts, 0.9, v)
+    }
+
+    #[test]
+    fn a_hard_cut_jumps_where_a_ramp_moves_by_the_change() {
+        // Hard: just below the cut the neighbour is ignored (x = 0.75), just above it weighs
+        // about half: x ≈ 0.75 + 0.1 · 0.5 / 1.5 = 0.783.
+        let (lo, hi) = (pair(Cuts::Hard, 0.499), pair(Cuts::Hard, 0.501));
+        assert!((lo.estimate().x - 0.75).abs() < 1e-5);
+        assert!((hi.estimate().x - (0.75 + 0.1 * 0.501 / 1.501)).abs() < 1e-5);
+        // Ramp: weights 1 − 0.5 and v − 0.5, so x = 0.75 + 0.1 · (v − 0.5) / (1 − 0.5 + v − 0.5).
+        for v in [0.3f32, 0.499, 0.501, 0.8] {
+            let w = (v - 0.5).max(0.0);
+            let want = 0.75 + 0.1 * w / (0.5 + w);
+            let x = pair(Cuts::Ramp, v).estimate().x;
+            assert!((x - want).abs() < 1e-5, "{v}: {x} vs {want}");
+        }
+        let step =
+            (pair(Cuts::Ramp, 0.501).estimate().x - pair(Cuts::Ramp, 0.499).estimate().x).abs();
+        assert!(step < 1e-3, "{step}");
+    }
+
+    #[test]
+    fn a_ramp_from_the_maximum_takes_the_cells_at_the_maximum() {
+        let cfg = GridConfig {
+            cuts: Cuts::Ramp,
+            cog_cut: 1.0,
+            ..GridConfig::default()
+        };
+        let mut g = FuzzyGrid::new(cfg, [0.0, 0.0, 2.0, 2.0]).unwrap();
+        g.possibilities_mut().fill(0.2);
+        g.possibilities_mut()[5 * 20 + 7] = 1.0;
+        g.possibilities_mut()[5 * 20 + 8] = 1.0;
+        // Both cells at the maximum, weighed alike: halfway between their centres.
+        let e = g.estimate();
+        assert!(
+            (e.x - 0.8).abs() < 1e-5 && (e.y - 0.55).abs() < 1e-5,
+            "{e:?}"
+        );
+    }
+
+    #[test]
+    fn the_top_region_counts_a_cell_by_its_share_under_a_ramp() {
+        // Top cut 0.9 of 1: the neighbour at 0.95 counts half a cell under a ramp (1.5 cells of
+        // 0.01 m² in all), a whole one under a hard cut; below 0.9 it does not count.
+        let cell = 0.01f32;
+        for (v, hard, ramp) in [(0.95f32, 2.0f32, 1.5f32), (0.89, 1.0, 1.0), (1.0, 2.0, 2.0)] {
+            let h = pair(Cuts::Hard, v).estimate().top_area;
+            let r = pair(Cuts::Ramp, v).estimate().top_area;
+            assert!((h - hard * cell).abs() < 1e-6, "{v}: {h}");
+            assert!((r - ramp * cell).abs() < 1e-6, "{v}: {r}");
+        }
+        // top_cut 1: only cells at the maximum count, whole.
+        let g = cut_pair(Cuts::Ramp, 1.0, 0.999);
+        assert!((g.estimate().top_area - cell).abs() < 1e-6);
+    }
 }

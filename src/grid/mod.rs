@@ -28,7 +28,7 @@ mod workspace;
 pub use blur::Blur;
 pub use cap::Region;
 pub use cells::FuzzyGrid;
-pub use config::{Combine, Dilation, ElementShape, GridConfig, SensorModel};
+pub use config::{Combine, Cuts, Dilation, ElementShape, GridConfig, SensorModel};
 pub use estimate::Estimate;
 pub use observe::{Landmark, LandmarkTable, Observation};
 pub use place::LandmarkTruth;

@@ -36,7 +36,7 @@
 //! assert!((p.x - 3.0).abs() < 0.06 && (p.y - 1.0).abs() < 0.06);
 //! ```
 
-use super::{FuzzyGrid, GridError, Landmark, LandmarkTable, Region, SensorModel};
+use super::{Cuts, FuzzyGrid, GridError, Landmark, LandmarkTable, Region, SensorModel};
 use crate::map::{Extent, Map};
 use serde::{Deserialize, Serialize};
 
@@ -254,7 +254,8 @@ fn max_in(g: &FuzzyGrid, r: &Region) -> f32 {
     cells_in(g, r).fold(0.0f32, |m, (i, _, _)| m.max(g.h[i]))
 }
 
-/// Centre of gravity of the cells of `r` at or above the grid's `cog_cut` of their maximum.
+/// Centre of gravity of the cells of `r` at or above the grid's `cog_cut` of their maximum,
+/// weighted as the grid's own estimate weighs them ([`Cuts`]).
 fn cog_in(g: &FuzzyGrid, r: &Region) -> Option<(f32, f32)> {
     let max = max_in(g, r);
     // The grid never goes below its floor; at the floor there is no belief left to weigh.
@@ -265,11 +266,14 @@ fn cog_in(g: &FuzzyGrid, r: &Region) -> Option<(f32, f32)> {
     let (mut sw, mut sx, mut sy) = (0.0f64, 0.0f64, 0.0f64);
     for (i, x, y) in cells_in(g, r) {
         let v = g.h[i];
-        if v >= cut {
-            sw += v as f64;
-            sx += (v * x) as f64;
-            sy += (v * y) as f64;
-        }
+        let w = match g.cfg.cuts {
+            Cuts::Hard if v >= cut => v,
+            Cuts::Hard => 0.0,
+            Cuts::Ramp => (v - cut).max(0.0),
+        };
+        sw += w as f64;
+        sx += (w * x) as f64;
+        sy += (w * y) as f64;
     }
     (sw > 0.0).then(|| ((sx / sw) as f32, (sy / sw) as f32))
 }

@@ -18,7 +18,8 @@
 //! carrying was measured and made the ATE worse, with the tuned sensor models
 //! and with ones derived from the readings' measured spread (a belief that
 //! spreads follows biased readings; `docs/compare.md`), so `Drop` stays the
-//! default.
+//! default; the MRCLAM file carries it since it was refitted, with ramped
+//! estimate cuts, for robustness to its map and values.
 //!
 //! Applying the pending motion:
 //! 1. If the heading estimate is reliable (`R̄ ≥ directed_min_reliability`),

@@ -319,7 +319,7 @@ fn mrclam_robot1_grid_and_small_pf() {
     let fpg = &rows[0];
     assert_eq!(fpg["frames"].as_u64(), Some(2745), "{fpg}");
     let rmse = fpg["ate"]["rmse"].as_f64().unwrap();
-    assert!((rmse - 0.213).abs() < 0.0005, "{fpg}");
+    assert!((rmse - 0.221).abs() < 0.0005, "{fpg}");
     // The common window starts at the latest first fix, the same for every row, and holds
     // no more frames than any row's own window.
     let latest = rows

@@ -275,8 +275,8 @@ fn mrclam_robot1_extract_then_grid() {
         .stdout
         .clone();
     let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
-    // Measured 0.213 m, first fix 3.45 s, recovery 4.1 s (docs/grid.md); the RMSE bound is
-    // tests/grid_mrclam.rs's, which the previous configuration's 0.280 m fails.
+    // Measured 0.221 m, first fix 3.45 s, recovery 2.8 s (docs/grid.md); the RMSE bound is
+    // tests/grid_mrclam.rs's, which the configuration before the retuning (0.280 m) fails.
     assert!(v["ate"]["rmse"].as_f64().unwrap() < 0.26, "{v}");
     assert!(v["first_fix"].as_f64().unwrap() < 5.0, "{v}");
     assert!(v["recovery"].as_f64().unwrap() < 15.0, "{v}");

@@ -55,22 +55,24 @@ fn robot1_spreads() -> Option<(f64, f64, String)> {
     Some((landmarks, config.0, config.1))
 }
 
-/// Locks today's spread, measured 13.8 % (landmarks) and 8.3 % (configuration) with
-/// config/grid-mrclam.ron; the bound is the largest spread measured over robots 1–5 before
-/// (18–20 %, docs/compare.md), so the test fails if the grid becomes more fragile than that.
+/// Locks today's spread, measured 2.1 % (landmarks) and 6.0 % (configuration) with
+/// config/grid-mrclam.ron. Landmarks: issue 20's goal, 3 %. Configuration: 7 %, below the
+/// 8.3 % of the file before (config/grid-mrclam-hard.ron, which also fails the landmark
+/// bound with 13.8 %), so the test fails if the grid falls back to that fragility.
 #[test]
 fn mrclam_robot1_ate_is_no_more_fragile_than_measured() {
     let Some((landmarks, config, worst)) = robot1_spreads() else {
         return;
     };
-    assert!(landmarks <= 0.20, "{landmarks}");
-    assert!(config <= 0.20, "{config} ({worst})");
+    assert!(landmarks <= 0.03, "{landmarks}");
+    assert!(config <= 0.07, "{config} ({worst})");
 }
 
-/// Issue 20's robustness goal: ≤ 3 % under both. Not met (13.8 % and 8.3 % on robot 1);
-/// run with `--ignored` to measure.
+/// Issue 20's robustness goal for the configuration: ≤ 3 % (the landmark half is met and
+/// locked above). Not met (6.0 % on robot 1, `flank_per_metre` ×1.01); run with `--ignored`
+/// to measure.
 #[test]
-#[ignore = "issue 20's 3 % goal is not met yet (robot 1: 13.8 % landmarks, 8.3 % configuration)"]
+#[ignore = "issue 20's 3 % goal for the configuration is not met yet (robot 1: 6.0 %)"]
 fn mrclam_robot1_ate_moves_at_most_3_percent() {
     let Some((landmarks, config, worst)) = robot1_spreads() else {
         return;
