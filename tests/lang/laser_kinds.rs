@@ -66,9 +66,15 @@ fn a_scan_without_side_openings_rules_out_the_junction_whichever_place_it_is() {
     // the rule-out of weight 0.3 caps the junction at 0.7. Min normalisation lifts the corridor
     // (the height, 0.75) to 1 and leaves the junction at 0.7.
     let (a, b) = possibilities(&twin_map("junction", "corridor"), 0.0);
-    assert!((b - 1.0).abs() < 1e-9 && (a - 0.7).abs() < 1e-9, "A {a}, B {b}");
+    assert!(
+        (b - 1.0).abs() < 1e-9 && (a - 0.7).abs() < 1e-9,
+        "A {a}, B {b}"
+    );
     let (a, b) = possibilities(&twin_map("corridor", "junction"), 0.0);
-    assert!((a - 1.0).abs() < 1e-9 && (b - 0.7).abs() < 1e-9, "A {a}, B {b}");
+    assert!(
+        (a - 1.0).abs() < 1e-9 && (b - 0.7).abs() < 1e-9,
+        "A {a}, B {b}"
+    );
     // A side opening seen: the kinds say nothing, the twins stay alike.
     let (a, b) = possibilities(&twin_map("junction", "corridor"), 1.0);
     assert!((a - b).abs() < 1e-12, "A {a}, B {b}");
