@@ -388,7 +388,11 @@ impl Checker<'_> {
                         .filter(|(_, p)| p.kind == k.node)
                         .map(|(i, _)| i),
                 );
-                if members.is_empty() {
+                // A rule file is written for a kind of sensor, not for a building, so it may
+                // name kinds a building lacks: a map that declares its kinds (`kinds {…};`) has
+                // said which it has, and the region is then empty. Without that declaration an
+                // empty region is most likely a misspelt kind.
+                if members.is_empty() && m.kinds().is_none() {
                     self.err(
                         DiagnosticKind::UnknownKind {
                             name: k.node.clone(),

@@ -477,7 +477,7 @@ pub enum DiagnosticKind {
         /// `place` or `room`.
         what: &'static str,
     },
-    /// A region over a kind no place of the map has.
+    /// A region over a kind no place of the map has, in a map that does not declare its kinds.
     #[error("no place of the map is of kind `{name}`")]
     UnknownKind {
         /// The kind.
@@ -674,7 +674,9 @@ impl DiagnosticKind {
                 "conclude a predicate for the opposite instead, or exclude places with `!at_place`/`!in_region`"
             }
             K::RegionNameTaken { .. } => "give the region a name no place or room has",
-            K::UnknownKind { .. } => "use a kind written in the map's `place NAME KIND …` lines",
+            K::UnknownKind { .. } => {
+                "use a kind written in the map's `place NAME KIND …` lines, or declare the map's kinds with `kinds {…};` (a region over a declared kind no place has is empty)"
+            }
             K::UnknownRegion { .. } => "declare it with `region Name = {P1, P2};` in the rule file",
             K::PathToUnknownPlace { .. } => "declare the place, or fix the spelling",
             K::DuplicatePath { .. } => "keep one path between the two places",

@@ -5,6 +5,7 @@
 #[path = "../support/mod.rs"]
 mod support;
 
+mod laser_kinds;
 mod map_floor_plan;
 mod map_model;
 mod syntax_diagnostics;
