@@ -963,15 +963,19 @@ impl Tracker {
     /// b))`, `compat_i = max(between, max_j min(R_ij, agree_j))` over the pairs the blur filled
     /// (the others have `R_ij = 0`, which cannot raise a maximum that starts at `between ≥ 0`).
     /// With the min t-norm an anchor below the floor (`m_i < b ≤ max(compat_i, b)`) keeps its
-    /// value whatever `compat_i` is, so its pairs are not read.
+    /// value whatever `compat_i` is, so its pairs are not read. In a frame with no support at
+    /// all (`between = 1`) no pair is read either: each term `min(R_ij, agree_j) ≤ agree_j ≤ 1`
+    /// (`agree` is never NaN: `e_j` is clamped), so `compat_i` stays exactly 1.
     fn revise(&mut self, between: f64, b: f64) {
         let t = self.cfg.tnorm;
         let keeps_low = t == TNorm::Min;
+        let no_pairs = between >= 1.0;
         for (m, &(lo, hi)) in self.anchor.iter_mut().zip(&self.window) {
             if keeps_low && *m < b {
                 continue;
             }
             let mut compat = between;
+            let (lo, hi) = if no_pairs { (lo, lo) } else { (lo, hi) };
             let pairs = self.gates.target[lo..hi].iter().zip(&self.reach[lo..hi]);
             for (&j, &r) in pairs {
                 let g = self.agree.get(j as usize).copied().unwrap_or(0.0);
