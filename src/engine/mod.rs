@@ -2,7 +2,7 @@
 //!
 //! [`Engine::load`] parses, checks and compiles (`compile`), producing a [`tape::Tape`] whose
 //! output registers are the place supports. [`Engine::step`] evaluates the tape on one
-//! [`Frame`], builds the place distribution (`logic::possibility`) and decides
+//! [`Frame`] (regrouped by instruction kind, `columns`, one loop per kind and level), builds the place distribution (`logic::possibility`) and decides
 //! (`logic::decision`) — into buffers allocated at load time, so a step allocates nothing and
 //! cannot panic on any frame. The interpreter (`interpret`) is the slow reference the tape is
 //! tested against. This module depends on `syntax`, `map` and `logic`; nothing in those depends
@@ -23,6 +23,7 @@
 //! assert_eq!(decision.place().map(|p| engine.map().places()[p].name.as_str()), Some("P2"));
 //! ```
 
+pub mod columns;
 pub mod compile;
 pub mod frame;
 pub mod grid_tracker;
@@ -101,6 +102,9 @@ pub struct Engine {
     map: Map,
     rules: RuleSet,
     compiled: Compiled,
+    /// The tape regrouped by instruction kind, the evaluator a step uses (`None` only for a
+    /// malformed tape, which [`tape::Tape::eval`] evaluates).
+    columns: Option<columns::Columns>,
     regs: Vec<f64>,
     dist: PlaceDistribution,
     /// One distribution per evidence group (empty without `group` blocks).
@@ -183,6 +187,7 @@ impl Engine {
                 .collect(),
         );
         let mut engine = Engine {
+            columns: columns::Columns::new(&compiled.tape),
             regs: vec![0.0; compiled.tape.len()],
             dist: PlaceDistribution::new(n),
             group_dists: vec![PlaceDistribution::new(n); groups],
@@ -254,7 +259,10 @@ impl Engine {
     /// (see `logic::possibility`). Allocates nothing.
     pub fn step_within(&mut self, frame: &Frame, known: Option<&PlaceSet>) -> Decision {
         self.sanitise(frame);
-        self.compiled.tape.eval(frame, &mut self.regs);
+        match &self.columns {
+            Some(c) => c.eval(&self.compiled.tape, frame, &mut self.regs),
+            None => self.compiled.tape.eval(frame, &mut self.regs),
+        }
         let read =
             |regs: &[f64], r: u32| clamp_degree(regs.get(r as usize).copied().unwrap_or(0.0));
         for (k, &r) in self.compiled.support.iter().enumerate() {

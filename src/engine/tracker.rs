@@ -410,6 +410,13 @@ pub struct Tracker {
     pending_evidence: Option<f64>,
     /// `e_j`, the frame's clamped possibility, read once per step rather than once per pair.
     evid: Vec<f64>,
+    /// The anchors below the bias floor whose pairs the last blur filled but did not carry into
+    /// `pred` (the first `low_len`, each with its value at the blur); see [`Tracker::blur`].
+    /// Sized `n` at construction, so that a step never grows it.
+    low: Vec<(u32, f64)>,
+    low_len: usize,
+    /// Whether `pred` holds those anchors' terms too (after a conflict union, or a reset).
+    pred_full: bool,
     /// `min(π'_j, e_j)`: how far the frame agrees with place `j` (the revision's inner term).
     agree: Vec<f64>,
     dist: PlaceDistribution,
@@ -673,6 +680,16 @@ fn advance(xs: &[f64], end: &mut End, holds: impl Fn(f64) -> bool) {
     end.next = xs.get(k).copied().unwrap_or(f64::INFINITY);
 }
 
+/// `pred_j = max(pred_j, min(a, R_ij))` for the pairs `targets`, `reach` of one anchor of value
+/// `a`.
+fn carry(pred: &mut [f64], targets: &[u32], reach: &[f64], a: f64) {
+    for (&j, &r) in targets.iter().zip(reach) {
+        if let Some(p) = pred.get_mut(j as usize) {
+            *p = p.max(a.min(r));
+        }
+    }
+}
+
 /// The displacement gate `s` metres after its anchor: full match within `tolerance_d +
 /// tolerance_d_rel·s` of the target extent, falling to 0 over `slope_d + slope_d_rel·s`.
 pub fn displacement_gate(cfg: &TrackerConfig, s: f64) -> Similarity {
@@ -722,6 +739,9 @@ impl Tracker {
             cursor: vec![Cursor::default(); n],
             pending_evidence: None,
             evid: vec![0.0; n],
+            low: vec![(0, 0.0); n],
+            low_len: 0,
+            pred_full: true,
             agree: vec![0.0; n],
             dist: PlaceDistribution::new(n),
             decision: Decision::Disoriented(Disoriented::NoPlaces),
@@ -737,6 +757,8 @@ impl Tracker {
         self.disp.fill(Some([0.0; 2]));
         self.heading = None;
         self.pred.fill(1.0);
+        self.low_len = 0;
+        self.pred_full = true;
         self.pending_evidence = None;
         self.dist = PlaceDistribution::new(self.n);
         self.decision = undecided(self.n);
@@ -774,7 +796,7 @@ impl Tracker {
             *e = if w == 1.0 { v } else { v.powf(w) };
         }
 
-        self.blur();
+        self.blur(b);
 
         let max_support = self.intersect(evidence, b);
 
@@ -817,26 +839,17 @@ impl Tracker {
     /// their union when they do not overlap, see the module docs), fills `dist` and normalises
     /// it; returns the frame's highest support.
     fn intersect(&mut self, evidence: &PlaceDistribution, b: f64) -> f64 {
-        let ev =
-            |v: &[f64], j: usize, missing: f64| clamp_degree(v.get(j).copied().unwrap_or(missing));
-        let t = self.cfg.tnorm;
-        let mut h = 0.0f64;
-        let mut max_support = 0.0f64;
-        for j in 0..self.n {
-            let e = self.evid[j];
-            let a = ev(&evidence.support, j, 0.0);
-            max_support = max_support.max(a);
-            let c = t.apply(self.pred[j].max(b), e);
-            self.dist.support[j] = a;
-            self.dist.exclusion[j] = ev(&evidence.exclusion, j, 0.0);
-            self.dist.possibility_raw[j] = c;
-            h = h.max(c);
-        }
+        let (h, max_support) = self.intersect_terms(evidence, b);
         self.dist.height = h;
         self.dist.inconsistency = 1.0 - h;
         if h < self.cfg.conflict {
             // Belief and evidence do not overlap: keep both (their union) rather than the
             // little their intersection leaves, so that the next frames can tell which was right.
+            // The union reads `pred` itself, not above the floor: it needs every anchor's terms.
+            let mut pred = std::mem::take(&mut self.pred);
+            self.carry_low(&mut pred);
+            self.pred = pred;
+            self.pred_full = true;
             for j in 0..self.n {
                 self.dist.possibility_raw[j] = self.pred[j].max(self.evid[j]);
             }
@@ -846,6 +859,41 @@ impl Tracker {
         max_support
     }
 
+    /// `c_j`, support and exclusion of every place into `dist`; returns the height of `c` and
+    /// the highest support. Evidence of the map's length (what the engine gives) is read in one
+    /// pass over the columns; other lengths read missing places as "no evidence".
+    fn intersect_terms(&mut self, evidence: &PlaceDistribution, b: f64) -> (f64, f64) {
+        let t = self.cfg.tnorm;
+        let (mut h, mut max_support) = (0.0f64, 0.0f64);
+        let n = self.n;
+        let (sup, exc) = (&evidence.support, &evidence.exclusion);
+        let d = &mut self.dist;
+        if sup.len() == n && exc.len() == n && d.support.len() == n {
+            let out = d.support.iter_mut().zip(&mut d.exclusion);
+            let out = out.zip(&mut d.possibility_raw);
+            let input = sup.iter().zip(exc).zip(self.pred.iter().zip(&self.evid));
+            for (((s, x), raw), ((&a, &z), (&p, &e))) in out.zip(input) {
+                let a = clamp_degree(a);
+                max_support = max_support.max(a);
+                let c = t.apply(p.max(b), e);
+                (*s, *x, *raw) = (a, clamp_degree(z), c);
+                h = h.max(c);
+            }
+            return (h, max_support);
+        }
+        let ev = |v: &[f64], j: usize| clamp_degree(v.get(j).copied().unwrap_or(0.0));
+        for j in 0..n {
+            let a = ev(sup, j);
+            max_support = max_support.max(a);
+            let c = t.apply(self.pred[j].max(b), self.evid[j]);
+            d.support[j] = a;
+            d.exclusion[j] = ev(exc, j);
+            d.possibility_raw[j] = c;
+            h = h.max(c);
+        }
+        (h, max_support)
+    }
+
     /// Blur: carries each anchor along the graph into `pred`, filling `reach` with every `R_ij`
     /// that can be non-zero (the revision needs them too). Only the pairs within the horizon
     /// are stored, and of those a path gate fills only its row's window ([`Gates::window`]): an
@@ -853,8 +901,18 @@ impl Tracker {
     /// again) has an empty window and raises no `pred` and no `compat`. Max and min select
     /// exactly, so neither the order of the terms nor the pairs left out (all `R_ij = 0`, and
     /// `min(m_i, 0) = 0`) change `pred`.
-    fn blur(&mut self) {
+    ///
+    /// An anchor below the bias floor (`m_i < b`) fills its pairs but is not carried: its terms
+    /// `min(m_i, R_ij) < b` cannot change `max(pred_j, b)`, the only form in which the
+    /// intersection reads `pred` (for every t-norm). Only the conflict union reads `pred_j`
+    /// itself, and [`Tracker::predicted`] shows it: both add those terms from the list kept here
+    /// ([`Tracker::carry_low`]), the windows and `reach` being unchanged until the next blur. On
+    /// a large map most anchors are below the floor (the product t-norm shrinks the unsupported
+    /// ones every frame), so the blur carries a handful of rows instead of every live one.
+    fn blur(&mut self, b: f64) {
         self.pred.fill(0.0);
+        self.low_len = 0;
+        self.pred_full = false;
         for i in 0..self.n {
             let (a, s) = (self.anchor[i], self.since[i]);
             if a == 0.0 {
@@ -881,24 +939,43 @@ impl Tracker {
                 }
             };
             self.window[i] = (range.start, range.end);
-            let pairs = self.gates.target[range.clone()]
-                .iter()
-                .zip(&self.reach[range]);
-            for (&j, &r) in pairs {
-                if let Some(p) = self.pred.get_mut(j as usize) {
-                    *p = p.max(a.min(r));
+            if a < b && !range.is_empty() {
+                if let Some(slot) = self.low.get_mut(self.low_len) {
+                    *slot = (i as u32, a);
+                    self.low_len += 1;
+                    continue;
                 }
             }
+            let (targets, reach) = (&self.gates.target[range.clone()], &self.reach[range]);
+            carry(&mut self.pred, targets, reach, a);
+        }
+    }
+
+    /// Adds to `pred` the terms of the anchors the last blur left out (see [`Tracker::blur`]).
+    fn carry_low(&self, pred: &mut [f64]) {
+        for &(i, a) in self.low.iter().take(self.low_len) {
+            let (lo, hi) = self.window.get(i as usize).copied().unwrap_or((0, 0));
+            carry(pred, &self.gates.target[lo..hi], &self.reach[lo..hi], a);
         }
     }
 
     /// Revises each anchor by how well the frame agrees with it: `m_i ← T(m_i, max(compat_i,
     /// b))`, `compat_i = max(between, max_j min(R_ij, agree_j))` over the pairs the blur filled
     /// (the others have `R_ij = 0`, which cannot raise a maximum that starts at `between ≥ 0`).
+    /// With the min t-norm an anchor below the floor (`m_i < b ≤ max(compat_i, b)`) keeps its
+    /// value whatever `compat_i` is, so its pairs are not read. In a frame with no support at
+    /// all (`between = 1`) no pair is read either: each term `min(R_ij, agree_j) ≤ agree_j ≤ 1`
+    /// (`agree` is never NaN: `e_j` is clamped), so `compat_i` stays exactly 1.
     fn revise(&mut self, between: f64, b: f64) {
         let t = self.cfg.tnorm;
+        let keeps_low = t == TNorm::Min;
+        let no_pairs = between >= 1.0;
         for (m, &(lo, hi)) in self.anchor.iter_mut().zip(&self.window) {
+            if keeps_low && *m < b {
+                continue;
+            }
             let mut compat = between;
+            let (lo, hi) = if no_pairs { (lo, lo) } else { (lo, hi) };
             let pairs = self.gates.target[lo..hi].iter().zip(&self.reach[lo..hi]);
             for (&j, &r) in pairs {
                 let g = self.agree.get(j as usize).copied().unwrap_or(0.0);
@@ -961,9 +1038,15 @@ impl Tracker {
         self.decision
     }
 
-    /// The carried (predicted) possibility of each place before the last frame's evidence.
-    pub fn predicted(&self) -> &[f64] {
-        &self.pred
+    /// The carried (predicted) possibility of each place before the last frame's evidence,
+    /// computed on demand: the step keeps only the terms that can change its decisions (see
+    /// [`Tracker::blur`]), and this adds the others.
+    pub fn predicted(&self) -> Vec<f64> {
+        let mut pred = self.pred.clone();
+        if !self.pred_full {
+            self.carry_low(&mut pred);
+        }
+        pred
     }
 
     /// A copy of the running state.

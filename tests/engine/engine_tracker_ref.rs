@@ -39,6 +39,8 @@ struct Reference {
     heading: Option<f64>,
     extents: Vec<((f64, f64), Extent)>,
     dist: PlaceDistribution,
+    /// `pred_j` of the last step, every anchor's terms in it.
+    pred: Vec<f64>,
 }
 
 /// Distance from point `p` to the box `[x0, x1] × [y0, y1]` (0 inside).
@@ -144,6 +146,7 @@ impl Reference {
                 .map(|p| ((p.pose.0, p.pose.1), p.extent))
                 .collect(),
             dist: PlaceDistribution::new(n),
+            pred: vec![1.0; n],
         }
     }
 
@@ -226,6 +229,7 @@ impl Reference {
                     .fold(0.0, f64::max)
             })
             .collect();
+        self.pred = pred.clone();
         let mut c: Vec<f64> = (0..n).map(|j| t.apply(pred[j].max(b), e[j])).collect();
         let h = c.iter().copied().fold(0.0, f64::max);
         if h < self.cfg.conflict {
@@ -467,6 +471,8 @@ proptest! {
             let TrackerState { anchor, since, .. } = fast.state();
             prop_assert!(same_all(&anchor, &slow.anchor), "frame {k}: anchors {:?} vs {:?}", anchor, slow.anchor);
             prop_assert!(same_all(&since, &slow.since), "frame {k}: distances");
+            // The blur leaves out the anchors below the floor; what it shows has them all.
+            prop_assert!(same_all(&fast.predicted(), &slow.pred), "frame {k}: pred {:?} vs {:?}", fast.predicted(), slow.pred);
         }
     }
 }
