@@ -598,28 +598,35 @@ mod tests {
         );
     }
 
-    #[test]
-    fn quantiles_by_nearest_rank_and_first_visits_hold_out_the_rest() {
-        let links = [ParamLink {
+    /// Percept `w` read against parameter `W`, unkeyed.
+    fn w_link() -> [ParamLink; 1] {
+        [ParamLink {
             percept: "w".into(),
             param: "W".into(),
             keyed: false,
-        }];
-        // Ten frames in A (values 1..=10), 3 m elsewhere, five more in A (values 100).
+        }]
+    }
+
+    /// Ten frames in A (values 1..=10, 0.1 m apart), three 1 m apart in B (value 50), then A
+    /// again with `later`.
+    fn a_b_a(later: &[f64]) -> (Vec<FrameRecord>, Vec<Option<String>>) {
         let mut frames = Vec::new();
         let mut labels = Vec::new();
-        for v in 1..=10 {
-            frames.push(frame(0.1, &[("w", "", f64::from(v))]));
-            labels.push(Some("A".to_owned()));
+        let a = (1..=10).map(f64::from).map(|v| (0.1, v, "A"));
+        let b = std::iter::repeat((1.0, 50.0, "B")).take(3);
+        let again = later.iter().map(|&v| (0.1, v, "A"));
+        for (step, v, place) in a.chain(b).chain(again) {
+            frames.push(frame(step, &[("w", "", v)]));
+            labels.push(Some(place.to_owned()));
         }
-        for _ in 0..3 {
-            frames.push(frame(1.0, &[("w", "", 50.0)]));
-            labels.push(Some("B".to_owned()));
-        }
-        for _ in 0..5 {
-            frames.push(frame(0.1, &[("w", "", 100.0)]));
-            labels.push(Some("A".to_owned()));
-        }
+        (frames, labels)
+    }
+
+    #[test]
+    fn quantiles_by_nearest_rank_and_first_visits_hold_out_the_rest() {
+        let links = w_link();
+        // Ten frames in A (values 1..=10), 3 m elsewhere, five more in A (values 100).
+        let (frames, labels) = a_b_a(&[100.0; 5]);
         let cfg = SurveyConfig::default();
         let v = visits(&frames, &labels, cfg.visit_gap_m);
         assert_eq!(v[9], Some(0));
@@ -638,27 +645,10 @@ mod tests {
 
     #[test]
     fn later_visits_count_the_readings_within_the_first_visits_ranges() {
-        let links = [ParamLink {
-            percept: "w".into(),
-            param: "W".into(),
-            keyed: false,
-        }];
+        let links = w_link();
         // A: first visit 1..=10 (fitted 1 .. 9), 3 m at B (one visit only), A again with five
         // readings of which 5 and 9 lie within 1 .. 9 (the ends count) and a NaN is no reading.
-        let mut frames = Vec::new();
-        let mut labels = Vec::new();
-        for v in 1..=10 {
-            frames.push(frame(0.1, &[("w", "", f64::from(v))]));
-            labels.push(Some("A".to_owned()));
-        }
-        for _ in 0..3 {
-            frames.push(frame(1.0, &[("w", "", 50.0)]));
-            labels.push(Some("B".to_owned()));
-        }
-        for v in [5.0, 100.0, 9.0, 0.5, 9.5, f64::NAN] {
-            frames.push(frame(0.1, &[("w", "", v)]));
-            labels.push(Some("A".to_owned()));
-        }
+        let (frames, labels) = a_b_a(&[5.0, 100.0, 9.0, 0.5, 9.5, f64::NAN]);
         let cfg = SurveyConfig::default();
         let first = fit(&frames, &labels, &links, Protocol::FirstVisits, &cfg);
         assert_eq!((first[0].params[0].lo, first[0].params[0].hi), (1.0, 9.0));
