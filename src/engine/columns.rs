@@ -17,7 +17,7 @@
 
 use super::frame::Frame;
 use super::tape::{Op, Tape};
-use crate::logic::{clamp_degree, LogicConfig};
+use crate::logic::{clamp_degree, Implication, LogicConfig, TNorm};
 
 /// What one run computes; the instruction's own parameters are in the columns.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -164,10 +164,15 @@ impl Columns {
                 Kind::Match(sim) => self.matches(tape, sim, run, frame, regs),
                 Kind::Min => binary(regs, dest, a, b, f64::min),
                 Kind::Max => binary(regs, dest, a, b, f64::max),
-                Kind::TNorm => {
-                    let t = tape.logic.tnorm;
-                    binary(regs, dest, a, b, |p, q| t.apply(p, q))
-                }
+                Kind::TNorm => match tape.logic.tnorm {
+                    // One loop per t-norm (each calling `apply` on a constant, so the same
+                    // operations): no branch on the t-norm per instruction.
+                    TNorm::Min => binary(regs, dest, a, b, |p, q| TNorm::Min.apply(p, q)),
+                    TNorm::Product => binary(regs, dest, a, b, |p, q| TNorm::Product.apply(p, q)),
+                    TNorm::Lukasiewicz => {
+                        binary(regs, dest, a, b, |p, q| TNorm::Lukasiewicz.apply(p, q))
+                    }
+                },
                 Kind::Not => {
                     for (&d, &p) in dest.iter().zip(a) {
                         regs[d as usize] = 1.0 - regs[p as usize];
@@ -177,12 +182,7 @@ impl Columns {
                     let l: LogicConfig = tape.logic;
                     binary(regs, dest, a, b, |p, q| l.implies(p, q))
                 }
-                Kind::Detach => {
-                    let l: LogicConfig = tape.logic;
-                    for ((&d, &p), &w) in dest.iter().zip(a).zip(x) {
-                        regs[d as usize] = l.detach(regs[p as usize], w);
-                    }
-                }
+                Kind::Detach => detach(tape.logic, regs, dest, a, x),
             }
         }
     }
@@ -206,6 +206,42 @@ impl Columns {
 /// The degree of percept slot `s` as [`Tape::eval`] reads it (missing → 0).
 fn degree(frame: &Frame, s: u32) -> f64 {
     clamp_degree(frame.degree.get(s as usize).copied().unwrap_or(0.0))
+}
+
+/// A run of detachments `regs[dest[k]] = logic.detach(regs[a[k]], w[k])`, one loop per reading
+/// of `->` and t-norm (each calling `detach` on a constant configuration, so the same operations).
+fn detach(logic: LogicConfig, regs: &mut [f64], dest: &[u32], a: &[u32], w: &[f64]) {
+    let with = |tnorm, implication| LogicConfig {
+        tnorm,
+        implication,
+        ..logic
+    };
+    match (logic.implication, logic.tnorm) {
+        (Implication::MinMp, _) => {
+            let l = with(TNorm::Min, Implication::MinMp);
+            binary_const(regs, dest, a, w, |p, q| l.detach(p, q))
+        }
+        (Implication::Residuum, TNorm::Min) => {
+            let l = with(TNorm::Min, Implication::Residuum);
+            binary_const(regs, dest, a, w, |p, q| l.detach(p, q))
+        }
+        (Implication::Residuum, TNorm::Product) => {
+            let l = with(TNorm::Product, Implication::Residuum);
+            binary_const(regs, dest, a, w, |p, q| l.detach(p, q))
+        }
+        (Implication::Residuum, TNorm::Lukasiewicz) => {
+            let l = with(TNorm::Lukasiewicz, Implication::Residuum);
+            binary_const(regs, dest, a, w, |p, q| l.detach(p, q))
+        }
+    }
+}
+
+/// `regs[dest[k]] = f(regs[a[k]], w[k])` for each `k`.
+#[inline(always)]
+fn binary_const(regs: &mut [f64], dest: &[u32], a: &[u32], w: &[f64], f: impl Fn(f64, f64) -> f64) {
+    for ((&d, &p), &q) in dest.iter().zip(a).zip(w) {
+        regs[d as usize] = f(regs[p as usize], q);
+    }
 }
 
 /// `regs[dest[k]] = f(regs[a[k]], regs[b[k]])` for each `k`.

@@ -104,21 +104,29 @@ impl Decision {
     }
 }
 
+/// The place `k ≠ skip` of highest `key[k]`, ties to the higher support, then to the lower
+/// index; `start` when none beats it. The best pair is carried in locals rather than read back
+/// by index at every comparison: one pass over the two columns, the same comparisons.
+fn highest(key: &[f64], support: &[f64], start: usize, skip: usize) -> usize {
+    let (Some(&k0), Some(&s0)) = (key.get(start), support.get(start)) else {
+        return start;
+    };
+    let (mut best, mut bk, mut bs) = (start, k0, s0);
+    for (k, (&kk, &sk)) in key.iter().zip(support).enumerate() {
+        if k != skip && (kk > bk || (kk == bk && sk > bs)) {
+            (best, bk, bs) = (k, kk, sk);
+        }
+    }
+    best
+}
+
 /// Decides from an up-to-date distribution, as the module docs describe.
 pub fn decide(d: &PlaceDistribution, p: DecisionParams) -> Decision {
     let n = d.len();
     if n == 0 {
         return Decision::Disoriented(Disoriented::NoPlaces);
     }
-    let better = |a: usize, b: usize, key: &[f64]| {
-        key[a] > key[b] || (key[a] == key[b] && d.support[a] > d.support[b])
-    };
-    let mut best = 0;
-    for k in 1..n {
-        if better(k, best, &d.necessity) {
-            best = k;
-        }
-    }
+    let best = highest(&d.necessity, &d.support, 0, usize::MAX);
     let nb = d.necessity[best];
     let inc = d.inconsistency;
     if reaches(nb, p.threshold) && exceeds(nb - inc, p.margin) {
@@ -141,15 +149,49 @@ pub fn decide(d: &PlaceDistribution, p: DecisionParams) -> Decision {
         // A lone place has nobody to be too close to: what held it back is the inconsistency.
         return Decision::Disoriented(Disoriented::Inconsistent { inconsistency: inc });
     }
-    let mut runner_up = if best == 0 { 1 } else { 0 };
-    for k in 0..n {
-        if k != best && better(k, runner_up, &d.possibility) {
-            runner_up = k;
-        }
-    }
+    let runner_up = highest(&d.possibility, &d.support, usize::from(best == 0), best);
     Decision::Disoriented(Disoriented::TooClose {
         best,
         runner_up,
         necessity: nb,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::core::rng::SplitMix64;
+
+    /// A value from a few levels (so that ties are common), now and then NaN.
+    fn level(rng: &mut SplitMix64) -> f64 {
+        match rng.below(6) {
+            0 => f64::NAN,
+            k => 0.25 * (k - 1) as f64,
+        }
+    }
+
+    /// The search by index, as `decide` read it: `k` beats `b` on `key`, then on support.
+    fn by_index(key: &[f64], sup: &[f64], start: usize, skip: usize) -> usize {
+        let better = |a: usize, b: usize| key[a] > key[b] || (key[a] == key[b] && sup[a] > sup[b]);
+        let mut best = start;
+        for k in 0..key.len() {
+            if k != skip && better(k, best) {
+                best = k;
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn the_one_pass_search_picks_what_the_search_by_index_picks() {
+        let mut rng = SplitMix64::new(7);
+        for _ in 0..2000 {
+            let n = 1 + rng.below(12);
+            let key: Vec<f64> = (0..n).map(|_| level(&mut rng)).collect();
+            let sup: Vec<f64> = (0..n).map(|_| level(&mut rng)).collect();
+            let (start, skip) = (rng.below(n), rng.below(n + 1));
+            let want = by_index(&key, &sup, start, skip);
+            assert_eq!(highest(&key, &sup, start, skip), want, "{key:?} {sup:?}");
+        }
+    }
 }

@@ -85,14 +85,11 @@ impl Top2 {
         t
     }
 
-    /// The maximum over all entries except `k` (−∞ when there is no other entry).
+    /// `1 − max(0, max_{j≠k} v_j)` for every `k` but `best`, and for `best` (an empty max read
+    /// as 0): the complement a place's "all the others" takes, computed once per pass.
     #[inline]
-    fn max_except(&self, k: usize) -> f64 {
-        if k == self.best {
-            self.second
-        } else {
-            self.first
-        }
+    fn complements(&self) -> (f64, f64) {
+        (1.0 - self.first.max(0.0), 1.0 - self.second.max(0.0))
     }
 }
 
@@ -135,10 +132,11 @@ impl PlaceDistribution {
         let n = self.support.len();
         // min_{j≠k}(1 − α_j) = 1 − max_{j≠k} α_j; an empty min is 1.
         let sup = Top2::max_of(&self.support, |a| a);
+        let (all, but_best) = sup.complements();
         for k in 0..n {
-            let others = sup.max_except(k).max(0.0);
+            let others = if k == sup.best { but_best } else { all };
             let beta = self.exclusion.get(k).copied().unwrap_or(0.0);
-            self.possibility_raw[k] = (1.0 - others).min(1.0 - beta);
+            self.possibility_raw[k] = others.min(1.0 - beta);
         }
     }
 
@@ -194,27 +192,25 @@ impl PlaceDistribution {
     /// `possibility_raw` itself. Leaves `height` and `inconsistency` to the caller.
     pub fn normalise(&mut self, normalisation: Normalisation) {
         let h = self.possibility_raw.iter().copied().fold(0.0, f64::max);
-        for (p, &raw) in self.possibility.iter_mut().zip(&self.possibility_raw) {
-            *p = if h <= 0.0 {
-                // Nothing is possible: total ignorance rather than 0/0.
-                1.0
-            } else {
-                match normalisation {
-                    Normalisation::Min => {
-                        if raw >= h {
-                            1.0
-                        } else {
-                            raw
-                        }
-                    }
-                    Normalisation::Product => (raw / h).min(1.0),
+        let pairs = self.possibility.iter_mut().zip(&self.possibility_raw);
+        // One loop per case, so that each is a plain pass over the columns.
+        if h <= 0.0 {
+            // Nothing is possible: total ignorance rather than 0/0.
+            pairs.for_each(|(p, _)| *p = 1.0);
+        } else {
+            match normalisation {
+                Normalisation::Min => {
+                    pairs.for_each(|(p, &raw)| *p = if raw >= h { 1.0 } else { raw })
                 }
-            };
+                Normalisation::Product => pairs.for_each(|(p, &raw)| *p = (raw / h).min(1.0)),
+            }
         }
         let pos = Top2::max_of(&self.possibility, |p| p);
-        for (k, nk) in self.necessity.iter_mut().enumerate() {
-            // An empty max is 0: a lone place is certain.
-            *nk = 1.0 - pos.max_except(k).max(0.0);
+        // An empty max is 0: a lone place is certain.
+        let (all, but_best) = pos.complements();
+        self.necessity.fill(all);
+        if let Some(nk) = self.necessity.get_mut(pos.best) {
+            *nk = but_best;
         }
     }
 }
@@ -252,5 +248,49 @@ mod tests {
         assert_eq!(d.necessity[0], 1.0);
         let d = dist(&[], &[], Normalisation::Min);
         assert_eq!(d.inconsistency, 1.0);
+    }
+
+    /// `π'` and `N` as the module's formulas read, place by place.
+    fn by_definition(raw: &[f64], norm: Normalisation) -> (Vec<f64>, Vec<f64>) {
+        let h = raw.iter().copied().fold(0.0, f64::max);
+        let pi: Vec<f64> = raw
+            .iter()
+            .map(|&r| match norm {
+                _ if h <= 0.0 => 1.0,
+                Normalisation::Min if r >= h => 1.0,
+                Normalisation::Min => r,
+                Normalisation::Product => (r / h).min(1.0),
+            })
+            .collect();
+        let nec = (0..pi.len())
+            .map(|k| {
+                let others = pi.iter().enumerate().filter(|&(j, _)| j != k);
+                1.0 - others.map(|(_, &p)| p).fold(0.0, f64::max)
+            })
+            .collect();
+        (pi, nec)
+    }
+
+    #[test]
+    fn normalising_gives_the_formulas_place_by_place() {
+        let mut rng = crate::core::rng::SplitMix64::new(11);
+        for case in 0..2000 {
+            let n = rng.below(8);
+            let norm = [Normalisation::Min, Normalisation::Product][rng.below(2)];
+            let mut d = PlaceDistribution::new(n);
+            for r in &mut d.possibility_raw {
+                *r = match rng.below(5) {
+                    0 => f64::NAN,
+                    1 => 0.0,
+                    2 => 0.5,
+                    _ => rng.unit(),
+                };
+            }
+            d.normalise(norm);
+            let (pi, nec) = by_definition(&d.possibility_raw, norm);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&d.possibility), bits(&pi), "case {case}");
+            assert_eq!(bits(&d.necessity), bits(&nec), "case {case}");
+        }
     }
 }
