@@ -1039,8 +1039,8 @@ impl Tracker {
     }
 
     /// The carried (predicted) possibility of each place before the last frame's evidence,
-    /// computed on demand: the step keeps only the terms that can change its decisions (see
-    /// [`Tracker::blur`]), and this adds the others.
+    /// computed on demand: the step's blur keeps only the terms that can change its decisions
+    /// (those of anchors at or above the bias floor), and this adds the others.
     pub fn predicted(&self) -> Vec<f64> {
         let mut pred = self.pred.clone();
         if !self.pred_full {
