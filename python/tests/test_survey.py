@@ -121,9 +121,11 @@ def test_hand_worked_fit(tmp_path):
         }
         lines.append(json.dumps(rec))
     res = lplace.survey(lines, MAP, RULES)
-    old = "param A = 204.0; param L = 4.92;"
+    old = "param A = 204.0; param L = 4.92;\n}"
     assert lplace.OFFICE_MAP.count(old) == 1
-    want = lplace.OFFICE_MAP.replace(old, "param A = 10.00 .. 90.00; param L = 1.00 .. 1.80;")
+    # The ranges replace the values; the count of scans goes before P0's closing brace.
+    new = "param A = 10.00 .. 90.00; param L = 1.00 .. 1.80;\n param scans = 10; }"
+    want = lplace.OFFICE_MAP.replace(old, new)
     assert res.map_text == want
     # The spread is the median of the widths {80, 0.8}: index 2 // 2 = 1 of the sorted pair.
     assert res.table.to_pylist() == [

@@ -21,7 +21,8 @@
 //! evidence  c(x) = g(x) · max(b, e(x))^w   e(x) = e_j in place j's cells, and
 //!                                          max(b, 1 − max_j α_j) between places;
 //!                                          w = (distance since evidence was last taken) /
-//!                                          evidence_length_m, at most evidence_max_weight (1)
+//!                                          evidence_length_m, at most evidence_max_weight (1);
+//!                                          place j's own e_j is taken to w·r_j, r_j below
 //! normalise h = max c,   g = max(c / h, floor)          (g = 1 everywhere if h = 0)
 //! places    π_j = max_{x ∈ P_j} g(x),   π_∅ = max over the cells between places
 //!           N_j = 1 − max(max_{k≠j} π_k, π_∅),   Inc = 1 − h
@@ -32,6 +33,14 @@
 //! the tracker eleven times as sure as one at 2. Two frames of evidence `e` each taken at `w/2`
 //! give `e^w`, what one frame over the same distance gives; a robot standing still takes none
 //! (the first frame's evidence is taken whole).
+//!
+//! `r_j = n_j / (n_j + evidence_scans)` weighs place `j`'s evidence by the scans its
+//! expectations were fitted from (`param scans = n_j;`, which `lplace survey` writes; 1 for a
+//! place without it, described or written by hand). A range fitted from a few scans holds only
+//! what those few saw — one line through the place, in one direction of travel — so a later
+//! scan that misses it says little against the place, and one that matches it little for it:
+//! its factor is drawn towards 1 either way. Widening the range instead makes the place match
+//! everywhere, and with it the place's support, which then outweighs the places fitted well.
 //!
 //! `b` is the tracker's bias (as in the graph tracker: evidence never rules a cell out
 //! entirely) and `floor` paper 000's bias on the belief itself, which lets a kidnapped robot
@@ -95,7 +104,7 @@ use serde::{Deserialize, Serialize};
 ///
 /// ```ron
 /// (grid: Some((cell_size: 0.25, margin: 1.0, flank: 0.0, flank_per_metre: 0.1, floor: 0.001,
-///                evidence_length_m: 0.5, evidence_max_weight: 1.0)))
+///                evidence_length_m: 0.5, evidence_max_weight: 1.0, evidence_scans: 10.0)))
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -121,6 +130,11 @@ pub struct GridTrackConfig {
     /// per metre (it is never made surer by a gap). On the Intel log (about 0.55 m per
     /// frame), a cap of 8 decided no more and named a wrong place more often when thinned.
     pub evidence_max_weight: f64,
+    /// How many scans' worth of doubt a fitted place's evidence is weighed against (default
+    /// 10, the count below which `lplace survey` warns that a fit is unreliable): a place
+    /// fitted from `n` scans (`param scans = n;`) takes its evidence to the power
+    /// `n / (n + evidence_scans)`. 0 takes every place's evidence whole.
+    pub evidence_scans: f64,
 }
 
 impl Default for GridTrackConfig {
@@ -133,6 +147,7 @@ impl Default for GridTrackConfig {
             floor: 0.001,
             evidence_length_m: 0.5,
             evidence_max_weight: 1.0,
+            evidence_scans: 10.0,
         }
     }
 }
@@ -152,6 +167,7 @@ impl GridTrackConfig {
             ("grid.flank_per_metre", self.flank_per_metre),
             ("grid.evidence_length_m", self.evidence_length_m),
             ("grid.evidence_max_weight", self.evidence_max_weight),
+            ("grid.evidence_scans", self.evidence_scans),
         ] {
             if !(value >= 0.0 && value.is_finite()) {
                 return Err((field, value, "finite, ≥ 0"));
@@ -167,6 +183,9 @@ impl GridTrackConfig {
 /// Longest reach (cells) dilated by levels; longer ones go to the deques of
 /// [`crate::grid::dilate`], whose cost does not grow with the reach.
 const LEVELS: usize = 8;
+
+/// The place parameter holding how many scans its expectations were fitted from.
+pub const SCANS_PARAM: &str = "scans";
 
 /// Label of a cell between places.
 const NONE: u32 = u32::MAX;
@@ -195,6 +214,8 @@ pub struct GridTracker {
     runs: Vec<(usize, usize, usize)>,
     /// Per place (and, last, between places), the evidence factor of its cells.
     factor: Vec<f32>,
+    /// Per place (and, last, between places), `r_j`: the share of its evidence it takes.
+    reliance: Vec<f32>,
     /// Per place (and, last, between places), the largest cell after normalisation.
     top: Vec<f32>,
     /// Per run, its largest cell after the evidence.
@@ -236,6 +257,21 @@ fn extent_box(pose: (f64, f64), e: Extent) -> [f64; 4] {
 /// Entry `j` of an evidence vector as a degree, `missing` when the vector is short.
 fn degree_at(v: &[f64], j: usize, missing: f64) -> f64 {
     clamp_degree(v.get(j).copied().unwrap_or(missing))
+}
+
+/// Per place, `n / (n + prior)` for a place fitted from `n` scans (its `param scans = n;`), 1
+/// for one without a usable count or with `prior` 0; and 1 for between places, last.
+fn reliance(places: &[Place], prior: f64) -> Vec<f32> {
+    let prior = if prior.is_finite() {
+        prior.max(0.0)
+    } else {
+        0.0
+    };
+    let of = |p: &Place| match p.param(SCANS_PARAM, None) {
+        Some(n) if n >= 0.0 && n.is_finite() && prior > 0.0 => (n / (n + prior)) as f32,
+        _ => 1.0,
+    };
+    places.iter().map(of).chain(std::iter::once(1.0)).collect()
 }
 
 /// The lower-left and upper-right corners of the places' extents; the origin alone when no
@@ -342,6 +378,7 @@ impl GridTracker {
             label,
             runs,
             factor: vec![1.0; n + 1],
+            reliance: reliance(places, grid.evidence_scans),
             top: vec![1.0; n + 1],
             run_top: vec![0.0; n_runs],
             running: vec![0.0; nx * ny],
@@ -629,8 +666,13 @@ impl GridTracker {
         }
         // The evidence of `w` lengths of travel: each factor to the power `w` (w = 1 is the
         // frame's evidence as it is; bit for bit, as `powf(1)` is exact).
-        for (f, &e) in self.factor.iter_mut().zip(&self.dist.possibility) {
-            *f = (e as f32).powf(w);
+        for ((f, &e), &r) in self
+            .factor
+            .iter_mut()
+            .zip(&self.dist.possibility)
+            .zip(&self.reliance)
+        {
+            *f = (e as f32).powf(w * r);
         }
         if let Some(f) = self.factor.get_mut(n) {
             *f = (((1.0 - max_support).max(self.bias)) as f32).powf(w);

@@ -84,6 +84,7 @@ fn grid_field<'c>(g: &'c mut GridTrackConfig, key: &str) -> Option<&'c mut f64> 
         "floor" => &mut g.floor,
         "evidence_length_m" => &mut g.evidence_length_m,
         "evidence_max_weight" => &mut g.evidence_max_weight,
+        "evidence_scans" => &mut g.evidence_scans,
         _ => return None,
     })
 }

@@ -73,6 +73,7 @@ pub const GRID_KEYS: &[&str] = &[
     "floor",
     "evidence_length_m",
     "evidence_max_weight",
+    "evidence_scans",
 ];
 
 fn tracker_kind(key: &str) -> Kind {

@@ -11,7 +11,9 @@
 //! own argument `d` ([`links_from_rules`]). For each place and each `(parameter, key)`, the
 //! values the percept took on the frames inside the place are sorted and the expectation is the
 //! range from the `lo`-th to the `hi`-th quantile (nearest rank: index `⌊q·(n − 1)⌋`; 10th to
-//! 90th percentile by default), written `param free(North) = lo .. hi;`.
+//! 90th percentile by default), written `param free(North) = lo .. hi;`. Each fitted place
+//! also gets `param scans = n;`, the frames its fit stands on: the grid tracker takes less of
+//! the evidence of a place fitted from few scans (`engine::grid_tracker`, `evidence_scans`).
 //!
 //! # Visits
 //! A visit to a place is a stretch of frames in it; it ends once the robot has travelled
@@ -27,6 +29,7 @@
 
 use std::collections::BTreeMap;
 
+use crate::engine::grid_tracker::SCANS_PARAM;
 use crate::io::record::{FrameRecord, Odometry};
 use crate::io::stream::FrameMeta;
 use crate::logic::Decision;
@@ -479,8 +482,9 @@ fn param_text(p: &ParamFit) -> String {
     format!("param {}{key} = {:.2} .. {:.2};", p.name, p.lo, p.hi)
 }
 
-/// `text` (whose syntax tree is `ast`) with every fitted parameter written in: a parameter the
-/// place already has is replaced in its span, a new one is added before the place's closing
+/// `text` (whose syntax tree is `ast`) with every fitted parameter written in, and each fitted
+/// place's count of scans as `param scans = n;`: a parameter the place already has is replaced
+/// in its span, a new one is added before the place's closing
 /// brace (a place without braces gets them). Nothing else changes.
 ///
 /// # Errors
@@ -503,20 +507,31 @@ pub fn write_params(text: &str, ast: &MapFile, fits: &[PlaceFit]) -> Result<Stri
                 place: fit.place.clone(),
             })?;
         let mut added = String::new();
-        for p in &fit.params {
+        // The fitted ranges, then how many scans they stand on (the grid tracker weighs the
+        // place's evidence by it).
+        let texts = fit
+            .params
+            .iter()
+            .map(|p| (p.name.as_str(), p.key.as_ref(), param_text(p)))
+            .chain(std::iter::once((
+                SCANS_PARAM,
+                None,
+                format!("param {SCANS_PARAM} = {};", fit.scans),
+            )));
+        for (param, param_key, written) in texts {
             let existing = decl.features.iter().find_map(|f| match f {
                 Feature::Param {
                     name, key, span, ..
-                } if name.node == p.name && key.as_ref().map(|k| &k.node) == p.key.as_ref() => {
+                } if name.node == param && key.as_ref().map(|k| &k.node) == param_key => {
                     Some((span.start, span.end))
                 }
                 _ => None,
             });
             match existing {
-                Some((start, end)) => edits.push((start, end, param_text(p))),
+                Some((start, end)) => edits.push((start, end, written)),
                 None => {
                     added.push(' ');
-                    added.push_str(&param_text(p));
+                    added.push_str(&written);
                 }
             }
         }
@@ -712,9 +727,9 @@ mod tests {
         )
         .unwrap();
         let want = "// a comment\nmap m;\n\
-                    place A corridor at (0, 0) extent box (0, 0, 2, 1) {\n    wall North; // kept\n    param W = 1.23 .. 2.00;\n}\n\
-                    place B corridor at (3, 0) extent radius 1 { param W = 1.23 .. 2.00; } // no body\n\
-                    place C corridor at (5, 0) { wall South;  param free(North) = 1.23 .. 2.00; }\n\
+                    place A corridor at (0, 0) extent box (0, 0, 2, 1) {\n    wall North; // kept\n    param W = 1.23 .. 2.00;\n param scans = 10; }\n\
+                    place B corridor at (3, 0) extent radius 1 { param W = 1.23 .. 2.00; param scans = 10; } // no body\n\
+                    place C corridor at (5, 0) { wall South;  param free(North) = 1.23 .. 2.00; param scans = 10; }\n\
                     path A -- B;\n";
         assert_eq!(out, want);
         // The result parses, and writing the same fit again changes nothing.

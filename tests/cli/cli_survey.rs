@@ -9,6 +9,16 @@ const OFFICE_MAP: &str = include_str!("../../maps/office.map");
 /// P0's declared expectations, which a fit replaces.
 const P0_PARAMS: &str = "param A = 204.0; param L = 4.92;";
 
+/// The office map with P0's parameters fitted to `params` from `scans` scans: the ranges in
+/// place of the written values, and the count added before P0's closing brace.
+fn p0_written(params: &str, scans: usize) -> String {
+    OFFICE_MAP.replacen(
+        &format!("{P0_PARAMS}\n}}"),
+        &format!("{params}\n param scans = {scans}; }}"),
+        1,
+    )
+}
+
 /// A record at `place` seeing the beacon at angle `a`, distance `l`, after moving `dx` metres.
 fn record(t: f64, dx: f64, place: &str, a: f64, l: f64) -> String {
     format!(
@@ -65,10 +75,7 @@ fn writes_the_nearest_rank_range_and_nothing_else() {
     let (code, out, err) = survey(&stream, &[]);
     assert_eq!(code, Some(0), "{err}");
     // lo = v[⌊0.1·9⌋] = v[0], hi = v[⌊0.9·9⌋] = v[8].
-    let want = OFFICE_MAP.replace(
-        P0_PARAMS,
-        "param A = 10.00 .. 90.00; param L = 1.00 .. 1.80;",
-    );
+    let want = p0_written("param A = 10.00 .. 90.00; param L = 1.00 .. 1.80;", 10);
     assert_ne!(want, OFFICE_MAP);
     assert_eq!(out, want);
     // Spread: the median of the widths {0.8, 80} is the second of the pair.
@@ -77,10 +84,7 @@ fn writes_the_nearest_rank_range_and_nothing_else() {
     let (code, out, err) = survey(&stream, &["--quantiles", "0.5", "1", "--min-scans", "11"]);
     assert_eq!(code, Some(0), "{err}");
     // lo = v[⌊0.5·9⌋] = v[4], hi = v[9].
-    let want = OFFICE_MAP.replace(
-        P0_PARAMS,
-        "param A = 50.00 .. 100.00; param L = 1.40 .. 1.90;",
-    );
+    let want = p0_written("param A = 50.00 .. 100.00; param L = 1.40 .. 1.90;", 10);
     assert_eq!(out, want);
     assert_eq!(
         err,
@@ -93,10 +97,7 @@ fn writes_the_nearest_rank_range_and_nothing_else() {
     let written = std::fs::read_to_string(&target).expect("written");
     assert_eq!(
         written,
-        OFFICE_MAP.replace(
-            P0_PARAMS,
-            "param A = 10.00 .. 90.00; param L = 1.00 .. 1.80;"
-        )
+        p0_written("param A = 10.00 .. 90.00; param L = 1.00 .. 1.80;", 10)
     );
 }
 

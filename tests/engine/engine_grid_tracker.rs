@@ -36,6 +36,7 @@ fn config(flank_per_metre: f64) -> TrackerConfig {
             floor: 0.001,
             evidence_length_m: 0.0,
             evidence_max_weight: 1.0,
+            evidence_scans: 10.0,
         }),
         ..TrackerConfig::default()
     }
@@ -119,6 +120,36 @@ fn evidence_is_taken_per_metre_not_per_frame() {
     // Standing still takes no evidence; 2 m in one frame is still one look (w capped at 1).
     assert!(close(pi_b_after(3, 0.0, 0.5), 1.0));
     assert!(close(pi_b_after(1, 2.0, 0.5), 0.25));
+}
+
+/// B's possibility after one frame standing still with evidence against it (Π'_B = 0.25), B's
+/// expectations fitted from `scans` scans (`None`: no `param scans`) and `evidence_scans`.
+fn pi_b_with_scans(scans: Option<u32>, evidence_scans: f64) -> f64 {
+    let b = scans.map_or(";".to_owned(), |n| format!(" {{ param scans = {n}; }}"));
+    let m = map(&format!(
+        "place A corridor at (1, 0.5) extent box (0, 0, 2, 1) {{ param scans = 1000; }}
+         place B corridor at (3, 0.5) extent box (2, 0, 4, 1){b}
+         path A -- B;"
+    ));
+    let mut cfg = config(0.0);
+    if let Some(g) = cfg.grid.as_mut() {
+        g.evidence_scans = evidence_scans;
+    }
+    let mut t = GridTracker::new(&m, PARAMS, &cfg);
+    t.step(&evidence(&[0.8, 0.0], &[1.0, 0.25]), east(0.0), None);
+    t.distribution().possibility[1]
+}
+
+#[test]
+fn a_place_fitted_from_few_scans_takes_a_share_of_its_evidence() {
+    // A (1000 scans) is the evidence's best place, factor 1 whatever its share. B's 0.25 is
+    // taken to n / (n + 10): 10 scans, 0.25^0.5 = 0.5; 30 scans, 0.25^0.75; 0 scans, none.
+    assert!(close(pi_b_with_scans(Some(10), 10.0), 0.5));
+    assert!(close(pi_b_with_scans(Some(30), 10.0), 0.25f64.powf(0.75)));
+    assert!(close(pi_b_with_scans(Some(0), 10.0), 1.0));
+    // A place without a count (described, or written by hand), or `evidence_scans = 0`: whole.
+    assert!(close(pi_b_with_scans(None, 10.0), 0.25));
+    assert!(close(pi_b_with_scans(Some(10), 0.0), 0.25));
 }
 
 #[test]
@@ -390,7 +421,7 @@ proptest! {
         let n = m.places().len();
         let cfg = TrackerConfig {
             bias,
-            grid: Some(GridTrackConfig { cell_size: 0.5, margin: 0.5, flank, flank_per_metre, floor, evidence_length_m: 0.0, evidence_max_weight: 8.0 }),
+            grid: Some(GridTrackConfig { cell_size: 0.5, margin: 0.5, flank, flank_per_metre, floor, evidence_length_m: 0.0, evidence_max_weight: 8.0, evidence_scans: 10.0 }),
             ..TrackerConfig::default()
         };
         let mut fast = GridTracker::new(&m, PARAMS, &cfg);
