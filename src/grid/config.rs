@@ -59,6 +59,23 @@ pub enum Cuts {
     Ramp,
 }
 
+/// What becomes of the part of the predicted displacement below a whole cell
+/// ([`crate::grid::predict`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Shift {
+    /// The plane moves by whole cells and the rest is carried to the next prediction: a change
+    /// of the inputs far below what they are known to (a landmark moved by a millimetre, a value
+    /// by 1 %) can round one displacement the other way and move the whole belief by a cell,
+    /// and the run goes on from there.
+    #[default]
+    Cells,
+    /// The plane moves by whole cells and the cell lattice by the rest: the grid's origin is
+    /// the extent's corner plus the carried sub-cell displacement (under half a cell per axis),
+    /// so the belief moves exactly with the displacement and a rounding the other way gives the
+    /// same belief on the same points of the plane.
+    Lattice,
+}
+
 /// A sensor model: the trapezoid `⟨r, Δ, α, 1, b⟩` put around a reading `r`.
 ///
 /// Widths grow with the reading (`core = core_abs + core_rel · |r|`, same for
@@ -141,6 +158,9 @@ pub struct GridConfig {
     /// ([`crate::grid::blur`]): `Drop` (default) spends it, `Carry(level: …)` keeps it pending
     /// until it moves possibility one cell.
     pub blur: Blur,
+    /// Whether the sub-cell part of a shift moves the cell lattice ([`Shift`]). Default
+    /// `Cells` (it is carried only).
+    pub shift: Shift,
     /// Radius (metres) at which the element's possibility is still 1, per
     /// metre travelled: odometry can be trusted to this fraction. Default 0.1.
     pub core_per_metre: f32,
@@ -225,6 +245,7 @@ impl Default for GridConfig {
             element: ElementShape::Octagon,
             dilation: Dilation::SupMin,
             blur: Blur::Drop,
+            shift: Shift::Cells,
             core_per_metre: 0.1,
             flank_per_metre: 0.2,
             flank_per_second: 0.02,

@@ -21,6 +21,12 @@
 //! default; the MRCLAM file carries it since it was refitted, with ramped
 //! estimate cuts, for robustness to its map and values.
 //!
+//! The fractional remainder of a shift is carried in both forms of
+//! [`GridConfig::shift`](super::GridConfig::shift); under [`Shift::Lattice`] it also moves the
+//! cell lattice ([`FuzzyGrid::place_lattice`]), so that the belief follows the displacement
+//! exactly instead of lagging or leading it by up to half a cell, and a remainder rounded the
+//! other way (by a millimetre's difference) leaves the same belief on the same points.
+//!
 //! Applying the pending motion:
 //! 1. If the heading estimate is reliable (`R̄ ≥ directed_min_reliability`),
 //!    the plane and the heading sets are shifted by the displacement rotated
@@ -56,7 +62,7 @@
 //! assert!(g.possibility(26, 20) > 0.0 && g.possibility(20, 14) > 0.0);
 //! ```
 
-use super::{FuzzyGrid, GridError};
+use super::{FuzzyGrid, GridError, Shift};
 use crate::core::Odometry;
 use std::f32::consts::PI;
 
@@ -112,7 +118,38 @@ pub(crate) struct Pending {
     flank: [f32; 2],
 }
 
+/// The discrete decisions of the last [`FuzzyGrid::apply_pending`] that did anything, for
+/// tracing where two runs that should agree part ([`FuzzyGrid::last_motion`]). Recording them
+/// changes nothing in the belief.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct MotionTrace {
+    /// How many applications there have been since the grid was made or reset.
+    pub applied: u64,
+    /// Whether the heading was reliable enough to shift the grid along it.
+    pub directed: bool,
+    /// The whole-cell shift along x and y (0 when undirected).
+    pub shift: [i32; 2],
+    /// Whether the pending blur was applied ([`crate::grid::blur`]).
+    pub blurred: bool,
+}
+
+impl MotionTrace {
+    /// The record of the next application, before its shift and blur are known.
+    fn next(self, directed: bool) -> Self {
+        MotionTrace {
+            applied: self.applied + 1,
+            directed,
+            ..MotionTrace::default()
+        }
+    }
+}
+
 impl FuzzyGrid {
+    /// The decisions of the last motion application ([`MotionTrace`]).
+    pub fn last_motion(&self) -> MotionTrace {
+        self.trace
+    }
+
     /// Accumulates an odometry increment (robot frame at the start of the
     /// interval) and its elapsed time `dt` (seconds), in the grid's single
     /// precision. Rejects what [`check_motion`] rejects without changing
@@ -163,12 +200,14 @@ impl FuzzyGrid {
         let widen = cfg.delta_per_radian * p.turned + cfg.delta_per_second * p.dt;
         let min_rel = cfg.directed_min_reliability;
         let est = self.estimate();
+        let directed = est.heading_reliability >= min_rel && est.height > 0.0;
+        self.trace = self.trace.next(directed);
         let mut core = p.core;
         let mut flank = p.flank;
         let (mut rx, mut ry) = (p.rx, p.ry);
         let base_core = core_k * p.dist;
         let base_flank = flank_t * p.dt;
-        if est.heading_reliability >= min_rel && est.height > 0.0 {
+        if directed {
             let (s, c) = est.theta.sin_cos();
             let wx = c * p.px - s * p.py;
             let wy = s * p.px + c * p.py;
@@ -210,6 +249,7 @@ impl FuzzyGrid {
         // `GridConfig::blur` says whether a radius the passes may not act on
         // is spent or carried (module docs).
         if self.blur_due(core, flank) {
+            self.trace.blurred = true;
             self.dilate_xy(core, flank);
             core = [0.0; 2];
             flank = [0.0; 2];
@@ -221,6 +261,31 @@ impl FuzzyGrid {
             flank,
             ..Pending::default()
         };
+        self.place_lattice();
+    }
+
+    /// Puts the cell lattice where [`GridConfig::shift`](super::GridConfig::shift) says: at the
+    /// extent's corner, or under [`Shift::Lattice`] moved by the carried sub-cell displacement.
+    pub(super) fn place_lattice(&mut self) {
+        let [x, y] = self.corner;
+        (self.x0, self.y0) = match self.cfg.shift {
+            Shift::Cells => (x, y),
+            Shift::Lattice => (x + self.pending.rx, y + self.pending.ry),
+        };
+    }
+
+    /// Under [`Shift::Lattice`], moves the lattice so that the centre of the cell holding
+    /// `(x, y)` is that point (the rest of the belief is the caller's); else nothing.
+    pub(super) fn centre_lattice_on(&mut self, x: f32, y: f32) {
+        if self.cfg.shift != Shift::Lattice {
+            return;
+        }
+        let [cx, cy] = self.corner;
+        let s = self.cell;
+        let off = |v: f32, c: f32| v - c - ((v - c) / s - 0.5).round() * s - 0.5 * s;
+        self.pending.rx = off(x, cx);
+        self.pending.ry = off(y, cy);
+        self.place_lattice();
     }
 
     fn turn_headings(&mut self, by: f32) {
@@ -234,6 +299,7 @@ impl FuzzyGrid {
     /// Moves every plane by `(sx, sy)` cells; cells entering from outside the
     /// grid get possibility 0 and an unknown heading.
     fn shift(&mut self, sx: isize, sy: isize) {
+        self.trace.shift = [sx as i32, sy as i32];
         if sx == 0 && sy == 0 {
             return;
         }
