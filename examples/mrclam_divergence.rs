@@ -6,14 +6,15 @@
 //! `fix_reliability` — next to the estimate and the belief's maximum cell. Nothing in the runs is
 //! changed by the recording (`FuzzyGrid::last_motion` only reads).
 //!
-//! `cargo run --release --example mrclam_divergence [CONFIG] ROBOT [CASE…]`, a case being
+//! `cargo run --release --example mrclam_divergence [CONFIG] ROBOT [CASE…] [--around SECONDS]`
+//! (`--around`: both runs' frames within 3 s of that time, one line each), a case being
 //! `lm:SEED` (every landmark moved by ±1 mm, `localize::robust::jitter_landmarks`) or
 //! `NAME*FACTOR` (one value of the configuration, as `localize::robust::nudged_configs` names
 //! it, e.g. `flank_per_second*0.99`). Without cases, every perturbation of
 //! `examples/mrclam_robustness.rs` is run and those that move the ATE by more than 3 % are
 //! traced. Per traced case one markdown row: the ATE change, the first decision that differs
-//! (time from the first frame, kind, both sides), the first frame whose position estimates
-//! differ by more than 1 cm and 5 cm, the decision flips counted by kind up to that 5 cm
+//! (time from the first frame, kind, both sides), the first frame after both runs' first fix
+//! whose position estimates differ by more than 1 cm and 5 cm, the decision flips counted by kind up to that 5 cm
 //! frame, and the share of the ATE change (Σ e² difference) accrued after it.
 
 #[path = "support/mrclam.rs"]
@@ -79,6 +80,42 @@ struct Rec {
     fed: Vec<u32>,
     motions: Vec<MotionTrace>,
     argmax: usize,
+    heading_reliability: f32,
+    /// Top region (h ≥ 0.9 max): cells, and the share of its possibility whose heading is
+    /// unknown (bias ≥ 0.99).
+    top: (usize, f32),
+    /// The top region's cells: column, row, h / max, heading centre, bias.
+    top_cells: Vec<(usize, usize, f32, f32, f32)>,
+}
+
+fn top_cells(g: &lplace::grid::FuzzyGrid) -> Vec<(usize, usize, f32, f32, f32)> {
+    let h = g.possibilities();
+    let max = h.iter().copied().fold(0.0f32, f32::max);
+    let mut out = Vec::new();
+    for (i, &v) in h.iter().enumerate() {
+        let (c, r) = (i % g.nx(), i / g.nx());
+        if let Some(t) = g.heading_set(c, r).filter(|_| v >= 0.9 * max && max > 0.0) {
+            out.push((c, r, v / max, t.center, t.shape.bias));
+        }
+    }
+    out
+}
+
+fn top_region(g: &lplace::grid::FuzzyGrid) -> (usize, f32) {
+    let h = g.possibilities();
+    let max = h.iter().copied().fold(0.0f32, f32::max);
+    let (mut n, mut all, mut blind) = (0, 0.0f32, 0.0f32);
+    for (i, &v) in h.iter().enumerate() {
+        if v >= 0.9 * max && max > 0.0 {
+            n += 1;
+            all += v;
+            let set = g.heading_set(i % g.nx(), i / g.nx());
+            if set.is_some_and(|t| t.shape.bias >= 0.99) {
+                blind += v;
+            }
+        }
+    }
+    (n, if all > 0.0 { blind / all } else { 0.0 })
 }
 
 fn trace(table: &LandmarkTable, cfg: &GridConfig, frames: &[MetricFrame]) -> Result<Vec<Rec>> {
@@ -105,6 +142,9 @@ fn trace(table: &LandmarkTable, cfg: &GridConfig, frames: &[MetricFrame]) -> Res
             fed: std::mem::take(&mut loc.fed),
             motions: std::mem::take(&mut loc.motions),
             argmax,
+            heading_reliability: e.heading_reliability,
+            top: top_region(loc.grid.grid()),
+            top_cells: top_cells(loc.grid.grid()),
         });
     }
     Ok(out)
@@ -121,7 +161,9 @@ fn ate(run: &[Rec]) -> f64 {
 }
 
 /// The decisions that differ between two records of the same frame, by kind, with both sides.
-fn flips(a: &Rec, b: &Rec) -> Vec<(&'static str, String)> {
+/// Under `Shift::Lattice` (`lattice`) a shift rounded the other way leaves the same belief and
+/// is not counted.
+fn flips(a: &Rec, b: &Rec, lattice: bool) -> Vec<(&'static str, String)> {
     let mut out = Vec::new();
     if a.fed != b.fed {
         out.push(("thinning", format!("{:?} / {:?}", a.fed, b.fed)));
@@ -136,9 +178,10 @@ fn flips(a: &Rec, b: &Rec) -> Vec<(&'static str, String)> {
         ));
     }
     for (m, n) in a.motions.iter().zip(&b.motions) {
-        if m.directed != n.directed {
-            out.push(("directed", format!("{} / {}", m.directed, n.directed)));
-        } else if m.shift != n.shift {
+        if (m.directed - n.directed).abs() > 0.05 {
+            let what = format!("{:.2} / {:.2}", m.directed, n.directed);
+            out.push(("directed", what));
+        } else if m.shift != n.shift && !lattice {
             out.push(("whole-cell shift", format!("{:?} / {:?}", m.shift, n.shift)));
         }
         if m.blurred != n.blurred {
@@ -153,16 +196,19 @@ fn moved(a: &Rec, b: &Rec) -> f64 {
 }
 
 /// One markdown row comparing `base` with the perturbed run `other` (module docs).
-fn row(case: &str, base: &[Rec], other: &[Rec]) -> String {
+fn row(case: &str, base: &[Rec], other: &[Rec], lattice: bool) -> String {
     let t0 = base.first().map_or(0.0, |r| r.t);
     let (a0, a1) = (ate(base), ate(other));
-    let first = |eps: f64| base.iter().zip(other).position(|(a, b)| moved(a, b) > eps);
+    // Before both runs have their fix the estimate is of a flat belief: not counted.
+    let first = |eps: f64| {
+        (base.iter().zip(other)).position(|(a, b)| a.fixed && b.fixed && moved(a, b) > eps)
+    };
     let (k1, k5) = (first(0.01), first(0.05));
     let end = k5.unwrap_or(base.len());
     let mut first_flip = None;
     let mut kinds: Vec<(&str, usize)> = Vec::new();
     for (k, (a, b)) in base.iter().zip(other).enumerate().take(end + 1) {
-        for (kind, what) in flips(a, b) {
+        for (kind, what) in flips(a, b, lattice) {
             first_flip.get_or_insert((k, kind, what));
             match kinds.iter_mut().find(|(n, _)| *n == kind) {
                 Some(c) => c.1 += 1,
@@ -195,6 +241,43 @@ fn row(case: &str, base: &[Rec], other: &[Rec]) -> String {
         kinds.join(", "),
         if total != 0.0 { 100.0 * after / total } else { 0.0 },
     )
+}
+
+/// The frames within 3 s of `at` (seconds from the first frame) of both runs, one line each.
+fn dump(base: &[Rec], other: &[Rec], at: f64) {
+    let t0 = base.first().map_or(0.0, |r| r.t);
+    for (a, b) in base.iter().zip(other) {
+        if (a.t - t0 - at).abs() > 3.0 {
+            continue;
+        }
+        let m = |r: &Rec| {
+            r.motions
+                .iter()
+                .map(|m| format!("w {:.2} {:?}{}", m.directed, m.shift, if m.blurred { " blur" } else { "" }))
+                .collect::<Vec<_>>()
+                .join(";")
+        };
+        println!(
+            "  {:.2}  Δ {:.3} m | top {:?} / {:?} | R̄ {:.3} / {:.3} | θ {:+.3} / {:+.3} | err {:.3} / {:.3} | fed {:?} / {:?} | {} / {}",
+            a.t - t0,
+            moved(a, b),
+            a.top,
+            b.top,
+            a.heading_reliability,
+            b.heading_reliability,
+            a.theta,
+            b.theta,
+            a.error.unwrap_or(f64::NAN),
+            b.error.unwrap_or(f64::NAN),
+            a.fed,
+            b.fed,
+            m(a),
+            m(b),
+        );
+        if a.top_cells != b.top_cells {
+            println!("      top cells {:?}\n             / {:?}", a.top_cells, b.top_cells);
+        }
+    }
 }
 
 fn perturbed(
@@ -230,6 +313,15 @@ fn main() -> Result<()> {
     let table = survey_landmarks(data.survey()?)?;
     let frames = data.robots.into_iter().next().ok_or("no robot")?.frames;
     let base = trace(&table, &cfg, &frames)?;
+    let lattice = cfg.shift == lplace::grid::Shift::Lattice;
+    let around = match args.iter().position(|a| a == "--around") {
+        Some(k) => {
+            let v: f64 = args.get(k + 1).ok_or("--around SECONDS")?.parse()?;
+            args.drain(k..k + 2);
+            Some(v)
+        }
+        None => None,
+    };
     let mut cases: Vec<String> = args[1..].to_vec();
     let all = cases.is_empty();
     if all {
@@ -246,7 +338,10 @@ fn main() -> Result<()> {
         let other = trace(&t, &c, &frames)?;
         let change = (ate(&other) - ate(&base)).abs() / ate(&base);
         if !all || change > 0.03 {
-            println!("{}", row(&case, &base, &other));
+            println!("{}", row(&case, &base, &other, lattice));
+            if let Some(at) = around {
+                dump(&base, &other, at);
+            }
         }
     }
     Ok(())

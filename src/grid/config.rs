@@ -182,6 +182,11 @@ pub struct GridConfig {
     /// headings, in [0, 1]) above which odometry shifts the grid along the
     /// estimated heading. Default 0.8.
     pub directed_min_reliability: f32,
+    /// Width of the ramp below `directed_min_reliability` over which the share of the
+    /// displacement shifted along the estimated heading rises from 0 to 1 (the rest blurs
+    /// undirected, [`crate::grid::predict`]). 0 (default): a step, the whole displacement or
+    /// none, which a heading reliability moving by a hair across the threshold flips.
+    pub directed_ramp: f32,
     /// Values below this are flushed to 0 after an update, which keeps the
     /// arithmetic out of subnormal floats. Default 1e-9.
     pub flush_below: f32,
@@ -253,6 +258,7 @@ impl Default for GridConfig {
             delta_per_radian: 0.1,
             delta_per_second: 0.01,
             directed_min_reliability: 0.8,
+            directed_ramp: 0.0,
             flush_below: 1e-9,
             floor: 1e-8,
             cog_cut: 0.5,
@@ -298,6 +304,7 @@ impl GridConfig {
             ("delta_per_second", self.delta_per_second),
             ("flush_below", self.flush_below),
             ("reobserve_interval", self.reobserve_interval),
+            ("directed_ramp", self.directed_ramp),
         ] {
             if !nonneg(v) {
                 return Err(GridError::BadConfig {

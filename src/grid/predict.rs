@@ -37,6 +37,11 @@
 //! 2. Otherwise the displacement has no usable direction: nothing is shifted
 //!    and the element grows by `undirected_per_metre` per metre in every
 //!    direction (paper 000's odometry-free blur).
+//! 3. With `directed_ramp` > 0 the choice is a weight `w` ([`FuzzyGrid::directed_weight`]),
+//!    rising from 0 at `R̄ = directed_min_reliability − directed_ramp` to 1 at the threshold:
+//!    the plane is shifted by `w` times the displacement and the flank is `w` times case 1's
+//!    plus `1 − w` times case 2's, so a heading reliability moving by a hair moves the
+//!    prediction by as little.
 //!
 //! In both cases the element's flat core is `core_per_metre · d`, its flank
 //! gets `flank_per_metre · d + flank_per_second · t`, and every heading core Δ
@@ -62,7 +67,7 @@
 //! assert!(g.possibility(26, 20) > 0.0 && g.possibility(20, 14) > 0.0);
 //! ```
 
-use super::{FuzzyGrid, GridError, Shift};
+use super::{Estimate, FuzzyGrid, GridError, Shift};
 use crate::core::Odometry;
 use std::f32::consts::PI;
 
@@ -121,12 +126,13 @@ pub(crate) struct Pending {
 /// The discrete decisions of the last [`FuzzyGrid::apply_pending`] that did anything, for
 /// tracing where two runs that should agree part ([`FuzzyGrid::last_motion`]). Recording them
 /// changes nothing in the belief.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct MotionTrace {
     /// How many applications there have been since the grid was made or reset.
     pub applied: u64,
-    /// Whether the heading was reliable enough to shift the grid along it.
-    pub directed: bool,
+    /// Share of the displacement shifted along the estimated heading
+    /// ([`FuzzyGrid::directed_weight`]; 0 or 1 unless `directed_ramp` > 0).
+    pub directed: f32,
     /// The whole-cell shift along x and y (0 when undirected).
     pub shift: [i32; 2],
     /// Whether the pending blur was applied ([`crate::grid::blur`]).
@@ -135,7 +141,7 @@ pub struct MotionTrace {
 
 impl MotionTrace {
     /// The record of the next application, before its shift and blur are known.
-    fn next(self, directed: bool) -> Self {
+    fn next(self, directed: f32) -> Self {
         MotionTrace {
             applied: self.applied + 1,
             directed,
@@ -190,60 +196,42 @@ impl FuzzyGrid {
         if p.dist == 0.0 && p.turned == 0.0 && p.dt == 0.0 {
             return;
         }
-        let cfg = &self.cfg;
-        let (core_k, flank_k, flank_t, undirected) = (
-            cfg.core_per_metre,
-            cfg.flank_per_metre,
-            cfg.flank_per_second,
-            cfg.undirected_per_metre,
-        );
-        let widen = cfg.delta_per_radian * p.turned + cfg.delta_per_second * p.dt;
-        let min_rel = cfg.directed_min_reliability;
         let est = self.estimate();
-        let directed = est.heading_reliability >= min_rel && est.height > 0.0;
-        self.trace = self.trace.next(directed);
-        let mut core = p.core;
-        let mut flank = p.flank;
+        let w = if est.height > 0.0 {
+            self.directed_weight(&est)
+        } else {
+            0.0
+        };
+        self.trace = self.trace.next(w);
+        let cfg = &self.cfg;
+        let (flank_k, undirected) = (cfg.flank_per_metre, cfg.undirected_per_metre);
+        let widen = cfg.delta_per_radian * p.turned + cfg.delta_per_second * p.dt;
+        let base_core = cfg.core_per_metre * p.dist;
+        let base_flank = cfg.flank_per_second * p.dt;
+        let (mut core, mut flank) = (p.core, p.flank);
         let (mut rx, mut ry) = (p.rx, p.ry);
-        let base_core = core_k * p.dist;
-        let base_flank = flank_t * p.dt;
-        if directed {
+        let loose = base_flank + (flank_k + undirected) * p.dist;
+        if w > 0.0 {
             let (s, c) = est.theta.sin_cos();
             let wx = c * p.px - s * p.py;
             let wy = s * p.px + c * p.py;
-            rx += wx;
-            ry += wy;
-            // A shift beyond the grid empties it whatever its size: clamp so
-            // that absurd (but finite) odometry cannot overflow an index, and
-            // drop the remainder of a clamped or non-finite shift.
-            let lim = (self.nx.max(self.ny) + 1) as f32;
-            let cells = |r: f32| {
-                let c = (r / self.cell).round();
-                if c.is_finite() && c.abs() <= lim {
-                    (c, r - c * self.cell)
-                } else if c.is_finite() {
-                    (c.clamp(-lim, lim), 0.0)
-                } else {
-                    (0.0, 0.0)
-                }
-            };
-            let (sx, rem_x) = cells(rx);
-            let (sy, rem_y) = cells(ry);
-            rx = rem_x;
-            ry = rem_y;
+            let (sx, rem_x) = self.whole_cells(rx + w * wx);
+            let (sy, rem_y) = self.whole_cells(ry + w * wy);
+            (rx, ry) = (rem_x, rem_y);
             self.shift(sx as isize, sy as isize);
             self.turn_headings(p.turn);
             core[0] += base_core;
             core[1] += base_core;
-            flank[0] += base_flank + flank_k * wx.abs() + 0.5 * flank_k * wy.abs();
-            flank[1] += base_flank + flank_k * wy.abs() + 0.5 * flank_k * wx.abs();
+            // Weight 1 (the step gate, or a reliable heading): exactly the directed flank.
+            let along = |a: f32, b: f32| base_flank + flank_k * a.abs() + 0.5 * flank_k * b.abs();
+            flank[0] += w * along(wx, wy) + (1.0 - w) * loose;
+            flank[1] += w * along(wy, wx) + (1.0 - w) * loose;
         } else {
             self.turn_headings(p.turn);
             core[0] += base_core;
             core[1] += base_core;
-            let f = base_flank + (flank_k + undirected) * p.dist;
-            flank[0] += f;
-            flank[1] += f;
+            flank[0] += loose;
+            flank[1] += loose;
         }
         self.widen_headings(widen);
         // `GridConfig::blur` says whether a radius the passes may not act on
@@ -262,6 +250,37 @@ impl FuzzyGrid {
             ..Pending::default()
         };
         self.place_lattice();
+    }
+
+    /// How much of the displacement is shifted along the estimated heading `est.theta`, in
+    /// [0, 1] (module docs): 1 from `directed_min_reliability` on, 0 below it, or with
+    /// `directed_ramp` > 0 rising linearly over the `directed_ramp` below it. (The prediction
+    /// shifts nothing for an empty belief, whatever this says.)
+    pub fn directed_weight(&self, est: &Estimate) -> f32 {
+        let (m, ramp) = (self.cfg.directed_min_reliability, self.cfg.directed_ramp);
+        let r = est.heading_reliability;
+        if ramp > 0.0 {
+            ((r - (m - ramp)) / ramp).clamp(0.0, 1.0)
+        } else if r >= m {
+            1.0
+        } else {
+            0.0
+        }
+    }
+
+    /// A displacement `r` (metres) as whole cells and the remainder. A shift beyond the grid
+    /// empties it whatever its size: it is clamped so that absurd (but finite) odometry cannot
+    /// overflow an index, and the remainder of a clamped or non-finite shift is dropped.
+    fn whole_cells(&self, r: f32) -> (f32, f32) {
+        let lim = (self.nx.max(self.ny) + 1) as f32;
+        let c = (r / self.cell).round();
+        if c.is_finite() && c.abs() <= lim {
+            (c, r - c * self.cell)
+        } else if c.is_finite() {
+            (c.clamp(-lim, lim), 0.0)
+        } else {
+            (0.0, 0.0)
+        }
     }
 
     /// Puts the cell lattice where [`GridConfig::shift`](super::GridConfig::shift) says: at the

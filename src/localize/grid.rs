@@ -133,10 +133,11 @@ impl Localizer for GridLocalizer {
     fn estimate(&mut self) -> PoseEstimate {
         let e = self.grid.estimate();
         let [f, l, t] = self.moved;
-        let directed = e.heading_reliability >= self.grid.config().directed_min_reliability;
-        let (dx, dy, dt) = if directed {
+        // The share the next prediction will shift along the heading.
+        let w = self.grid.directed_weight(&e);
+        let (dx, dy, dt) = if w > 0.0 {
             let (s, c) = e.theta.sin_cos();
-            (c * f - s * l, s * f + c * l, t)
+            (w * (c * f - s * l), w * (s * f + c * l), t)
         } else {
             (0.0, 0.0, t)
         };
