@@ -216,7 +216,10 @@ fn row(case: &str, base: &[Rec], other: &[Rec], lattice: bool) -> String {
             }
         }
     }
-    let argmax = base.iter().zip(other).position(|(a, b)| a.argmax != b.argmax);
+    let argmax = base
+        .iter()
+        .zip(other)
+        .position(|(a, b)| a.argmax != b.argmax);
     let at = |k: Option<usize>| k.map_or("—".into(), |k| format!("{:.1}", base[k].t - t0));
     let flip = first_flip.map_or("none".into(), |(k, kind, what)| {
         format!("{:.1} s {kind} ({what})", base[k].t - t0)
@@ -239,7 +242,11 @@ fn row(case: &str, base: &[Rec], other: &[Rec], lattice: bool) -> String {
         at(k1),
         at(k5),
         kinds.join(", "),
-        if total != 0.0 { 100.0 * after / total } else { 0.0 },
+        if total != 0.0 {
+            100.0 * after / total
+        } else {
+            0.0
+        },
     )
 }
 
@@ -253,7 +260,14 @@ fn dump(base: &[Rec], other: &[Rec], at: f64) {
         let m = |r: &Rec| {
             r.motions
                 .iter()
-                .map(|m| format!("w {:.2} {:?}{}", m.directed, m.shift, if m.blurred { " blur" } else { "" }))
+                .map(|m| {
+                    format!(
+                        "w {:.2} {:?}{}",
+                        m.directed,
+                        m.shift,
+                        if m.blurred { " blur" } else { "" }
+                    )
+                })
                 .collect::<Vec<_>>()
                 .join(";")
         };
@@ -275,7 +289,10 @@ fn dump(base: &[Rec], other: &[Rec], at: f64) {
             m(b),
         );
         if a.top_cells != b.top_cells {
-            println!("      top cells {:?}\n             / {:?}", a.top_cells, b.top_cells);
+            println!(
+                "      top cells {:?}\n             / {:?}",
+                a.top_cells, b.top_cells
+            );
         }
     }
 }
@@ -327,7 +344,11 @@ fn main() -> Result<()> {
     if all {
         cases.extend((1..=10).map(|s| format!("lm:{s}")));
         for f in [1.01, 0.99] {
-            cases.extend(nudged_configs(&cfg, f).into_iter().map(|(n, _)| format!("{n}*{f}")));
+            cases.extend(
+                nudged_configs(&cfg, f)
+                    .into_iter()
+                    .map(|(n, _)| format!("{n}*{f}")),
+            );
         }
     }
     println!("robot {robot}, {cfg_path}: ATE {:.3} m", ate(&base));

@@ -76,6 +76,25 @@ pub enum Shift {
     Lattice,
 }
 
+/// The heading sets of the cells whose possibility the motion blur raises
+/// ([`crate::grid::blur`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum RaisedHeadings {
+    /// Each cell keeps its own set (the dilation acts on the plane only, paper 000): a cell
+    /// that sat at the floor, its heading forgotten or its bias raised near 1, comes out of a
+    /// long blur at the top, saying that any heading is possible, and the next bearing reading
+    /// then favours it over its neighbours that know the heading. Which cells sat at the floor
+    /// turns on values near 1e-8, which a millimetre or 1 % of a value changes.
+    #[default]
+    Keep,
+    /// A raised cell's set moves towards the belief's heading (the estimate's, turned by the
+    /// odometry, core `bearing.core_abs` plus the prediction's widening, flank
+    /// `bearing.slope_abs`, bias `1 − R̄`) by the share of its new possibility that the blur
+    /// brought, `(h′ − h)/h′`: continuous in the belief, and the possibility moved by the blur
+    /// carries the heading it came with.
+    Inherit,
+}
+
 /// A sensor model: the trapezoid `⟨r, Δ, α, 1, b⟩` put around a reading `r`.
 ///
 /// Widths grow with the reading (`core = core_abs + core_rel · |r|`, same for
@@ -161,6 +180,14 @@ pub struct GridConfig {
     /// Whether the sub-cell part of a shift moves the cell lattice ([`Shift`]). Default
     /// `Cells` (it is carried only).
     pub shift: Shift,
+    /// The heading sets of cells the blur raises ([`RaisedHeadings`]). Default `Keep`.
+    pub raised_headings: RaisedHeadings,
+    /// Factor on the odometry's translation (forward and left) before the grid uses it: a
+    /// calibration of the odometry against ground truth. Default 1. (MRCLAM's velocity
+    /// commands over-read the distance travelled by 9–13 % on every robot.)
+    pub forward_scale: f32,
+    /// Factor on the odometry's rotation, likewise. Default 1.
+    pub turn_scale: f32,
     /// Radius (metres) at which the element's possibility is still 1, per
     /// metre travelled: odometry can be trusted to this fraction. Default 0.1.
     pub core_per_metre: f32,
@@ -251,6 +278,9 @@ impl Default for GridConfig {
             dilation: Dilation::SupMin,
             blur: Blur::Drop,
             shift: Shift::Cells,
+            raised_headings: RaisedHeadings::Keep,
+            forward_scale: 1.0,
+            turn_scale: 1.0,
             core_per_metre: 0.1,
             flank_per_metre: 0.2,
             flank_per_second: 0.02,
@@ -305,6 +335,8 @@ impl GridConfig {
             ("flush_below", self.flush_below),
             ("reobserve_interval", self.reobserve_interval),
             ("directed_ramp", self.directed_ramp),
+            ("forward_scale", self.forward_scale),
+            ("turn_scale", self.turn_scale),
         ] {
             if !nonneg(v) {
                 return Err(GridError::BadConfig {

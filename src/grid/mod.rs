@@ -28,7 +28,9 @@ mod workspace;
 pub use blur::Blur;
 pub use cap::Region;
 pub use cells::FuzzyGrid;
-pub use config::{Combine, Cuts, Dilation, ElementShape, GridConfig, SensorModel, Shift};
+pub use config::{
+    Combine, Cuts, Dilation, ElementShape, GridConfig, RaisedHeadings, SensorModel, Shift,
+};
 pub use estimate::Estimate;
 pub use observe::{Landmark, LandmarkTable, Observation};
 pub use place::LandmarkTruth;

@@ -43,6 +43,9 @@
 //!    plus `1 − w` times case 2's, so a heading reliability moving by a hair moves the
 //!    prediction by as little.
 //!
+//! The increments are first scaled by `forward_scale` and `turn_scale` (an odometry
+//! calibration; 1 by default).
+//!
 //! In both cases the element's flat core is `core_per_metre · d`, its flank
 //! gets `flank_per_metre · d + flank_per_second · t`, and every heading core Δ
 //! widens by `delta_per_radian · |turn| + delta_per_second · t`.
@@ -67,7 +70,7 @@
 //! assert!(g.possibility(26, 20) > 0.0 && g.possibility(20, 14) > 0.0);
 //! ```
 
-use super::{Estimate, FuzzyGrid, GridError, Shift};
+use super::{Estimate, FuzzyGrid, GridError, RaisedHeadings, Shift};
 use crate::core::Odometry;
 use std::f32::consts::PI;
 
@@ -162,11 +165,7 @@ impl FuzzyGrid {
     /// anything.
     pub fn predict(&mut self, odometry: &Odometry, dt: f64) -> Result<(), GridError> {
         check_motion(odometry, dt)?;
-        let (forward, left, turn) = (
-            odometry.forward as f32,
-            odometry.left as f32,
-            odometry.turn as f32,
-        );
+        let [forward, left, turn] = self.scaled(odometry);
         let p = &mut self.pending;
         let (s, c) = p.turn.sin_cos();
         p.px += c * forward - s * left;
@@ -176,6 +175,18 @@ impl FuzzyGrid {
         p.turned += turn.abs();
         p.dt += dt as f32;
         Ok(())
+    }
+
+    /// The odometry increment in single precision, calibrated by
+    /// [`GridConfig::forward_scale`](super::GridConfig::forward_scale) and `turn_scale`:
+    /// forward, left, turn.
+    pub fn scaled(&self, odometry: &Odometry) -> [f32; 3] {
+        let (k, kt) = (self.cfg.forward_scale, self.cfg.turn_scale);
+        [
+            odometry.forward as f32 * k,
+            odometry.left as f32 * k,
+            odometry.turn as f32 * kt,
+        ]
     }
 
     /// Widens every cell's heading core by `by` radians (paper 000: the
@@ -238,7 +249,14 @@ impl FuzzyGrid {
         // is spent or carried (module docs).
         if self.blur_due(core, flank) {
             self.trace.blurred = true;
+            let inherit = self.cfg.raised_headings == RaisedHeadings::Inherit;
+            if inherit {
+                self.work.before.copy_from_slice(&self.h);
+            }
             self.dilate_xy(core, flank);
+            if inherit {
+                self.inherit_headings(&est, p.turn, widen);
+            }
             core = [0.0; 2];
             flank = [0.0; 2];
         }
@@ -348,6 +366,135 @@ impl FuzzyGrid {
                 self.work.plane[dst..dst + len].copy_from_slice(&plane[src]);
             }
             std::mem::swap(plane, &mut self.work.plane);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::GridConfig;
+
+    /// A grid started at (1.23, 2.07) heading along +x, with no blur, so only the shift moves
+    /// the belief; always directed (the start cell knows its heading: R̄ = 1).
+    fn started(shift: Shift, forward_scale: f32) -> FuzzyGrid {
+        let cfg = GridConfig {
+            shift,
+            forward_scale,
+            core_per_metre: 0.0,
+            flank_per_metre: 0.0,
+            flank_per_second: 0.0,
+            ..GridConfig::default()
+        };
+        let mut g = FuzzyGrid::new(cfg, [0.0, 0.0, 4.0, 4.0]).unwrap();
+        g.start_at(1.23, 2.07, 0.0).unwrap();
+        g
+    }
+
+    fn forward(g: &mut FuzzyGrid, metres: f32) {
+        let o = Odometry {
+            forward: metres as f64,
+            left: 0.0,
+            turn: 0.0,
+        };
+        g.predict(&o, 0.5).unwrap();
+        g.apply_pending();
+    }
+
+    #[test]
+    fn the_lattice_follows_the_displacement_where_whole_cells_round_it() {
+        // Three steps of 9, 8 and 7 cm. Cells: the start is the centre of its cell (1.25); the
+        // carried sums 0.09, −0.01 + 0.08 and −0.03 + 0.07 round to 1, 1 and 0 cells: 1.45, with
+        // 0.04 m carried, 2 cm behind 1.23 + 0.24. Lattice: the start is the point itself and
+        // the belief moves by exactly 0.24.
+        for (shift, want) in [(Shift::Cells, 1.45f32), (Shift::Lattice, 1.47)] {
+            let mut g = started(shift, 1.0);
+            for m in [0.09, 0.08, 0.07] {
+                forward(&mut g, m);
+            }
+            let e = g.estimate();
+            assert!((e.x - want).abs() < 1e-4, "{shift:?}: {e:?}");
+            assert!((e.y - if shift == Shift::Cells { 2.05 } else { 2.07 }).abs() < 1e-4);
+        }
+    }
+
+    #[test]
+    fn a_hair_across_the_rounding_moves_the_lattice_by_a_hair() {
+        // From the centre of the start's cell, 0.149 m rounds to one cell and 0.151 m to two:
+        // under Cells the two estimates part by a whole cell, under Lattice by the 2 mm of input.
+        let moved = |shift: Shift, m: f32| {
+            let mut g = started(shift, 1.0);
+            forward(&mut g, m);
+            (g.estimate().x, g.last_motion().shift[0])
+        };
+        let (a, b) = (moved(Shift::Lattice, 0.149), moved(Shift::Lattice, 0.151));
+        assert!(((b.0 - a.0) - 0.002).abs() < 1e-4, "{a:?} {b:?}");
+        let (c, d) = (moved(Shift::Cells, 0.149), moved(Shift::Cells, 0.151));
+        assert!(
+            (c.0 - 1.35).abs() < 1e-4 && (d.0 - 1.45).abs() < 1e-4,
+            "{c:?} {d:?}"
+        );
+        assert_eq!((c.1, d.1), (1, 2));
+    }
+
+    #[test]
+    fn forward_scale_calibrates_the_odometry() {
+        let mut g = started(Shift::Lattice, 0.5);
+        forward(&mut g, 0.4);
+        assert!((g.estimate().x - 1.43).abs() < 1e-4, "{:?}", g.estimate());
+        assert_eq!(
+            g.scaled(&Odometry {
+                forward: 0.4,
+                left: 0.2,
+                turn: 0.1
+            }),
+            [0.2, 0.1, 0.1]
+        );
+    }
+
+    #[test]
+    fn the_trace_records_each_application() {
+        let mut g = started(Shift::Cells, 1.0);
+        assert_eq!(g.last_motion(), MotionTrace::default());
+        forward(&mut g, 0.31);
+        let t = g.last_motion();
+        assert_eq!(
+            (t.applied, t.directed, t.shift, t.blurred),
+            (1, 1.0, [3, 0], false)
+        );
+        // Nothing pending: nothing applied, nothing recorded.
+        g.apply_pending();
+        assert_eq!(g.last_motion().applied, 1);
+    }
+
+    #[test]
+    fn the_directed_weight_is_a_step_or_a_ramp() {
+        let est = |r: f32| Estimate {
+            x: 0.0,
+            y: 0.0,
+            theta: 0.0,
+            reliability: 1.0,
+            heading_reliability: r,
+            top_area: 0.0,
+            height: 1.0,
+        };
+        let step = started(Shift::Cells, 1.0);
+        assert_eq!(step.directed_weight(&est(0.79)), 0.0);
+        assert_eq!(step.directed_weight(&est(0.8)), 1.0);
+        let cfg = GridConfig {
+            directed_ramp: 0.1,
+            ..GridConfig::default()
+        };
+        let ramp = FuzzyGrid::new(cfg, [0.0, 0.0, 1.0, 1.0]).unwrap();
+        for (r, w) in [
+            (0.65f32, 0.0f32),
+            (0.7, 0.0),
+            (0.75, 0.5),
+            (0.8, 1.0),
+            (0.9, 1.0),
+        ] {
+            let got = ramp.directed_weight(&est(r));
+            assert!((got - w).abs() < 1e-5, "{r}: {got}");
         }
     }
 }

@@ -105,13 +105,13 @@ impl Localizer for GridLocalizer {
 
     fn predict(&mut self, odometry: &Odometry, dt: f64) -> Result<(), GridError> {
         self.grid.predict(odometry, dt)?;
-        // In the grid's single precision, as the grid composes it.
-        let (forward, left) = (odometry.forward as f32, odometry.left as f32);
+        // In the grid's single precision and calibration, as the grid composes it.
+        let [forward, left, turn] = self.grid.scaled(odometry);
         let [f, l, t] = &mut self.moved;
         let (s, c) = t.sin_cos();
         *f += c * forward - s * left;
         *l += s * forward + c * left;
-        *t += odometry.turn as f32;
+        *t += turn;
         Ok(())
     }
 
