@@ -10,11 +10,11 @@
 //! `level` times its source's possibility, i.e. until applying it moves possibility one cell.
 //!
 //! With [`RaisedHeadings::Inherit`](super::RaisedHeadings) a blur also moves the heading sets
-//! of the cells it raises towards the belief's heading ([`FuzzyGrid::inherit_headings`]).
+//! of the cells it raises towards the belief's heading (`FuzzyGrid::inherit_headings`).
 //!
 //! # Complexity
 //!
-//! [`FuzzyGrid::blur_due`]: O(1); [`FuzzyGrid::inherit_headings`]: O(cells).
+//! `blur_due`: O(1); `inherit_headings`: O(cells).
 
 use super::dilate::Profile;
 use super::{ElementShape, Estimate, FuzzyGrid};

@@ -23,7 +23,7 @@
 //!
 //! The fractional remainder of a shift is carried in both forms of
 //! [`GridConfig::shift`](super::GridConfig::shift); under [`Shift::Lattice`] it also moves the
-//! cell lattice ([`FuzzyGrid::place_lattice`]), so that the belief follows the displacement
+//! cell lattice (`FuzzyGrid::place_lattice`), so that the belief follows the displacement
 //! exactly instead of lagging or leading it by up to half a cell, and a remainder rounded the
 //! other way (by a millimetre's difference) leaves the same belief on the same points.
 //!
@@ -251,7 +251,8 @@ impl FuzzyGrid {
             self.trace.blurred = true;
             let inherit = self.cfg.raised_headings == RaisedHeadings::Inherit;
             if inherit {
-                self.work.before.copy_from_slice(&self.h);
+                self.work.before.clear();
+                self.work.before.extend_from_slice(&self.h);
             }
             self.dilate_xy(core, flank);
             if inherit {
