@@ -153,6 +153,11 @@ pub struct PfConfig {
     /// readings as independent. Default 0.5 (on MRCLAM robot 1, 0 gave 3.8 m worst error, 0.5
     /// gave 0.9 m).
     pub reobserve_interval: f64,
+    /// Factor on the odometry's translation before the motion model uses it: a calibration of
+    /// the odometry against ground truth, as the grid's `forward_scale`. Default 1.
+    pub forward_scale: f64,
+    /// Factor on the odometry's rotation, likewise (the grid's `turn_scale`). Default 1.
+    pub turn_scale: f64,
 }
 
 impl Default for PfConfig {
@@ -178,6 +183,8 @@ impl Default for PfConfig {
             reliability_radius: 0.5,
             fix_reliability: 0.8,
             reobserve_interval: 0.5,
+            forward_scale: 1.0,
+            turn_scale: 1.0,
         }
     }
 }
@@ -217,6 +224,8 @@ impl PfConfig {
             ("range_sigma_abs", self.range_sigma_abs),
             ("bearing_sigma", self.bearing_sigma),
             ("reliability_radius", self.reliability_radius),
+            ("forward_scale", self.forward_scale),
+            ("turn_scale", self.turn_scale),
         ] {
             if !(v.is_finite() && v > 0.0) {
                 return bad(field, "must be finite and > 0");
@@ -554,6 +563,7 @@ impl Localizer for ParticleFilter {
 
     fn predict(&mut self, odometry: &Odometry, dt: f64) -> Result<(), BaselineError> {
         check_motion(odometry, dt)?;
+        let odometry = odometry.scaled(self.cfg.forward_scale, self.cfg.turn_scale);
         let (f, l) = (odometry.forward, odometry.left);
         let ds = f.hypot(l);
         let phi = l.atan2(f);
@@ -775,5 +785,49 @@ mod tests {
         assert_eq!(e.reliability, 1.0);
         assert!(pf.start_at(Pose2 { x: f64::NAN, ..p }).is_err());
         assert!(pf.particles().all(|(x, _, _, _)| x == 1.5));
+    }
+
+    #[test]
+    fn the_odometry_calibration_scales_the_motion() {
+        let t = LandmarkTable::new(vec![]).unwrap();
+        // Noise-free motion model: each particle moves by exactly the scaled increment.
+        let cfg = PfConfig {
+            particles: 4,
+            trans_per_m: 0.0,
+            trans_per_rad: 0.0,
+            rot_per_rad: 0.0,
+            rot_per_m: 0.0,
+            xy_per_sqrt_s: 0.0,
+            theta_per_sqrt_s: 0.0,
+            forward_scale: 0.5,
+            turn_scale: 2.0,
+            ..PfConfig::default()
+        };
+        let mut pf = ParticleFilter::new(&t, &cfg, [0.0, 0.0, 5.0, 5.0], 3).unwrap();
+        let start = Pose2 {
+            x: 1.0,
+            y: 1.0,
+            theta: 0.0,
+        };
+        pf.start_at(start).unwrap();
+        let step = Odometry {
+            forward: 2.0,
+            left: 0.0,
+            turn: 0.25,
+        };
+        pf.predict(&step, 1.0).unwrap();
+        // 2 m × 0.5 along θ = 0 (the chord turns by half the perturbation, here 0), 0.25 × 2 rad.
+        for (x, y, th, _) in pf.particles() {
+            assert!(
+                (x - 2.0).abs() < 1e-12 && (y - 1.0).abs() < 1e-12,
+                "{x} {y}"
+            );
+            assert!((th - 0.5).abs() < 1e-12, "{th}");
+        }
+        let zero = PfConfig {
+            forward_scale: 0.0,
+            ..PfConfig::default()
+        };
+        assert!(zero.validate().is_err());
     }
 }

@@ -23,6 +23,24 @@ impl Odometry {
         self.forward.hypot(self.left)
     }
 
+    /// The increment calibrated against ground truth: translation (forward and left) times
+    /// `translation`, rotation times `rotation`. Factors of 1 give the increment unchanged, bit
+    /// for bit.
+    ///
+    /// # Example
+    /// ```
+    /// use lplace::core::Odometry;
+    /// let o = Odometry { forward: 1.0, left: 0.5, turn: 0.2 }.scaled(0.5, 2.0);
+    /// assert_eq!((o.forward, o.left, o.turn), (0.5, 0.25, 0.4));
+    /// ```
+    pub fn scaled(&self, translation: f64, rotation: f64) -> Odometry {
+        Odometry {
+            forward: self.forward * translation,
+            left: self.left * translation,
+            turn: self.turn * rotation,
+        }
+    }
+
     /// The increment with each component rounded to single precision (and back, exactly).
     ///
     /// The metric methods share the Fuzzy Position Grid's single precision: the driver rounds

@@ -9,13 +9,18 @@
 //! radius pending until the row or column pass would give the neighbouring cell at least
 //! `level` times its source's possibility, i.e. until applying it moves possibility one cell.
 //!
+//! With [`RaisedHeadings::Inherit`](super::RaisedHeadings) a blur also moves the heading sets
+//! of the cells it raises towards the belief's heading (`FuzzyGrid::inherit_headings`).
+//!
 //! # Complexity
 //!
-//! O(1).
+//! `blur_due`: O(1); `inherit_headings`: O(cells).
 
 use super::dilate::Profile;
-use super::{ElementShape, FuzzyGrid};
+use super::{ElementShape, Estimate, FuzzyGrid};
+use crate::core::angle::wrap_pi_f32;
 use serde::{Deserialize, Serialize};
+use std::f32::consts::PI;
 use std::f32::consts::SQRT_2;
 
 /// What happens to a blur radius too small for the dilation's passes to reach a neighbour.
@@ -62,6 +67,42 @@ impl FuzzyGrid {
                     pass.at(1.0) >= level
                 })
             }
+        }
+    }
+}
+
+impl FuzzyGrid {
+    /// After a blur, under [`RaisedHeadings::Inherit`](super::RaisedHeadings): each cell raised
+    /// from `h` (`work.before`) to `h′` takes the share `λ = (h′ − h)/h′` of its heading set from
+    /// the belief's (`est`, the estimate before the motion, turned by `turn`; cores widened by
+    /// `widen`), keeping the share `1 − λ` of its own: centre, core, flank and bias move
+    /// linearly (the centre the short way round). A cell whose heading was forgotten (core
+    /// 2π) takes the belief's centre, its core and bias still near the full circle for a small
+    /// λ. The floor's bias (`floor / h′`) is kept.
+    pub(crate) fn inherit_headings(&mut self, est: &Estimate, turn: f32, widen: f32) {
+        let theta = wrap_pi_f32(est.theta + turn);
+        let (d_in, a_in) = (
+            self.cfg.bearing.core_abs + widen,
+            self.cfg.bearing.slope_abs,
+        );
+        let b_in = (1.0 - est.heading_reliability).clamp(0.0, 1.0);
+        let floor = self.cfg.floor;
+        for i in 0..self.h.len() {
+            let (was, now) = (self.work.before[i], self.h[i]);
+            if now <= was || now <= 0.0 {
+                continue;
+            }
+            let l = (now - was) / now;
+            let k = 1.0 - l;
+            let d = self.delta[i];
+            self.theta[i] = if d >= 2.0 * PI {
+                theta
+            } else {
+                wrap_pi_f32(self.theta[i] + l * wrap_pi_f32(theta - self.theta[i]))
+            };
+            self.delta[i] = (k * d + l * d_in).min(2.0 * PI);
+            self.alpha[i] = k * self.alpha[i] + l * a_in;
+            self.bias[i] = (k * self.bias[i] + l * b_in).max(floor / now).min(1.0);
         }
     }
 }
@@ -120,6 +161,45 @@ mod tests {
         let v = carried.possibility(21, 20);
         assert!((v - 0.268).abs() < 0.01, "{v}");
         assert_eq!(carried.possibility(20, 20), 1.0);
+    }
+
+    #[test]
+    fn raised_cells_inherit_the_heading_under_inherit_only() {
+        use crate::grid::RaisedHeadings;
+        // One cell known to head at 1 rad, every other cell at 0 with its heading forgotten;
+        // a 0.5 m step along the heading blurs (flank 0.5 m) into the neighbours.
+        let run = |raised: RaisedHeadings| {
+            let cfg = GridConfig {
+                raised_headings: raised,
+                flank_per_metre: 1.0,
+                ..GridConfig::default()
+            };
+            let mut g = FuzzyGrid::new(cfg, [0.0, 0.0, 4.0, 4.0]).unwrap();
+            g.start_at(2.05, 2.05, 1.0).unwrap();
+            let o = Odometry {
+                forward: 0.5,
+                left: 0.0,
+                turn: 0.0,
+            };
+            g.predict(&o, 0.5).unwrap();
+            g.apply_pending();
+            g
+        };
+        let keep = run(RaisedHeadings::Keep);
+        let inherit = run(RaisedHeadings::Inherit);
+        // The peak moved by (0.5 cos 1, 0.5 sin 1) = 3 and 4 cells; (24, 25) is raised beside it.
+        let (c, r) = (24, 25);
+        assert!(keep.possibility(c, r) > 0.2, "{}", keep.possibility(c, r));
+        assert_eq!(keep.possibility(c, r), inherit.possibility(c, r));
+        assert!(keep.heading_set(c, r).unwrap().shape.core >= 2.0 * std::f32::consts::PI);
+        // Raised from 0: all of it came with the blur, so it takes the belief's set: centre 1,
+        // core the bearing model's plus the widening (0.06 + 0.01 · 0.5), bias 1 − R̄ = 0.
+        let t = inherit.heading_set(c, r).unwrap();
+        assert!((t.center - 1.0).abs() < 1e-5, "{t:?}");
+        assert!((t.shape.core - 0.065).abs() < 1e-5, "{t:?}");
+        assert!(t.shape.bias < 1e-6, "{t:?}");
+        // The peak itself was not raised: its set is the same under both.
+        assert_eq!(keep.heading_set(23, 24), inherit.heading_set(23, 24));
     }
 
     #[test]

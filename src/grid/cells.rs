@@ -22,7 +22,7 @@
 //! assert!(g.possibilities().iter().all(|&h| h == 1.0)); // total ignorance
 //! ```
 
-use super::predict::Pending;
+use super::predict::{MotionTrace, Pending};
 use super::workspace::Workspace;
 use super::{GridConfig, GridError, Trapezoid};
 use std::f32::consts::PI;
@@ -36,8 +36,12 @@ pub struct FuzzyGrid {
     pub(super) cfg: GridConfig,
     pub(super) nx: usize,
     pub(super) ny: usize,
+    /// Lower-left corner of the cell lattice: `corner`, plus the carried sub-cell
+    /// displacement under [`Shift::Lattice`](super::Shift).
     pub(super) x0: f32,
     pub(super) y0: f32,
+    /// Lower-left corner of the extent the grid was made for.
+    pub(super) corner: [f32; 2],
     pub(super) cell: f32,
     /// Possibility plane `G(x, y)`.
     pub(super) h: Vec<f32>,
@@ -47,6 +51,8 @@ pub struct FuzzyGrid {
     pub(super) alpha: Vec<f32>,
     pub(super) bias: Vec<f32>,
     pub(super) pending: Pending,
+    /// Decisions of the last motion application (diagnostics only).
+    pub(super) trace: MotionTrace,
     /// Height of the plane before the last normalisation.
     pub(super) last_height: f32,
     /// Scratch space of the passes: not part of the belief.
@@ -83,12 +89,14 @@ impl FuzzyGrid {
             ny,
             x0: x_min,
             y0: y_min,
+            corner: [x_min, y_min],
             h: vec![1.0; n],
             theta: vec![0.0; n],
             delta: vec![2.0 * PI; n],
             alpha: vec![0.0; n],
             bias: vec![1.0; n],
             pending: Pending::default(),
+            trace: MotionTrace::default(),
             last_height: 1.0,
             work: Workspace::for_grid(nx, ny),
         };
@@ -104,6 +112,8 @@ impl FuzzyGrid {
         self.alpha.fill(0.0);
         self.bias.fill(1.0);
         self.pending = Pending::default();
+        self.place_lattice();
+        self.trace = MotionTrace::default();
         self.last_height = 1.0;
     }
 
@@ -127,7 +137,8 @@ impl FuzzyGrid {
     pub fn cell_size(&self) -> f32 {
         self.cell
     }
-    /// Lower-left corner `(x_min, y_min)` of the grid.
+    /// Lower-left corner `(x_min, y_min)` of the grid's cell lattice: the extent's corner, moved
+    /// by under half a cell per axis under [`Shift::Lattice`](super::Shift).
     #[inline]
     pub fn origin(&self) -> (f32, f32) {
         (self.x0, self.y0)
@@ -240,6 +251,7 @@ impl FuzzyGrid {
             let pending = self.pending;
             self.reset();
             self.pending = pending;
+            self.place_lattice();
             self.last_height = 0.0;
             return Err(0.0);
         }

@@ -59,6 +59,42 @@ pub enum Cuts {
     Ramp,
 }
 
+/// What becomes of the part of the predicted displacement below a whole cell
+/// ([`crate::grid::predict`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Shift {
+    /// The plane moves by whole cells and the rest is carried to the next prediction: a change
+    /// of the inputs far below what they are known to (a landmark moved by a millimetre, a value
+    /// by 1 %) can round one displacement the other way and move the whole belief by a cell,
+    /// and the run goes on from there.
+    #[default]
+    Cells,
+    /// The plane moves by whole cells and the cell lattice by the rest: the grid's origin is
+    /// the extent's corner plus the carried sub-cell displacement (under half a cell per axis),
+    /// so the belief moves exactly with the displacement and a rounding the other way gives the
+    /// same belief on the same points of the plane.
+    Lattice,
+}
+
+/// The heading sets of the cells whose possibility the motion blur raises
+/// ([`crate::grid::blur`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum RaisedHeadings {
+    /// Each cell keeps its own set (the dilation acts on the plane only, paper 000): a cell
+    /// that sat at the floor, its heading forgotten or its bias raised near 1, comes out of a
+    /// long blur at the top, saying that any heading is possible, and the next bearing reading
+    /// then favours it over its neighbours that know the heading. Which cells sat at the floor
+    /// turns on values near 1e-8, which a millimetre or 1 % of a value changes.
+    #[default]
+    Keep,
+    /// A raised cell's set moves towards the belief's heading (the estimate's, turned by the
+    /// odometry, core `bearing.core_abs` plus the prediction's widening, flank
+    /// `bearing.slope_abs`, bias `1 − R̄`) by the share of its new possibility that the blur
+    /// brought, `(h′ − h)/h′`: continuous in the belief, and the possibility moved by the blur
+    /// carries the heading it came with.
+    Inherit,
+}
+
 /// A sensor model: the trapezoid `⟨r, Δ, α, 1, b⟩` put around a reading `r`.
 ///
 /// Widths grow with the reading (`core = core_abs + core_rel · |r|`, same for
@@ -141,6 +177,17 @@ pub struct GridConfig {
     /// ([`crate::grid::blur`]): `Drop` (default) spends it, `Carry(level: …)` keeps it pending
     /// until it moves possibility one cell.
     pub blur: Blur,
+    /// Whether the sub-cell part of a shift moves the cell lattice ([`Shift`]). Default
+    /// `Cells` (it is carried only).
+    pub shift: Shift,
+    /// The heading sets of cells the blur raises ([`RaisedHeadings`]). Default `Keep`.
+    pub raised_headings: RaisedHeadings,
+    /// Factor on the odometry's translation (forward and left) before the grid uses it: a
+    /// calibration of the odometry against ground truth. Default 1. (MRCLAM's velocity
+    /// commands over-read the distance travelled by 9–13 % on every robot.)
+    pub forward_scale: f32,
+    /// Factor on the odometry's rotation, likewise. Default 1.
+    pub turn_scale: f32,
     /// Radius (metres) at which the element's possibility is still 1, per
     /// metre travelled: odometry can be trusted to this fraction. Default 0.1.
     pub core_per_metre: f32,
@@ -162,6 +209,11 @@ pub struct GridConfig {
     /// headings, in [0, 1]) above which odometry shifts the grid along the
     /// estimated heading. Default 0.8.
     pub directed_min_reliability: f32,
+    /// Width of the ramp below `directed_min_reliability` over which the share of the
+    /// displacement shifted along the estimated heading rises from 0 to 1 (the rest blurs
+    /// undirected, [`crate::grid::predict`]). 0 (default): a step, the whole displacement or
+    /// none, which a heading reliability moving by a hair across the threshold flips.
+    pub directed_ramp: f32,
     /// Values below this are flushed to 0 after an update, which keeps the
     /// arithmetic out of subnormal floats. Default 1e-9.
     pub flush_below: f32,
@@ -225,6 +277,10 @@ impl Default for GridConfig {
             element: ElementShape::Octagon,
             dilation: Dilation::SupMin,
             blur: Blur::Drop,
+            shift: Shift::Cells,
+            raised_headings: RaisedHeadings::Keep,
+            forward_scale: 1.0,
+            turn_scale: 1.0,
             core_per_metre: 0.1,
             flank_per_metre: 0.2,
             flank_per_second: 0.02,
@@ -232,6 +288,7 @@ impl Default for GridConfig {
             delta_per_radian: 0.1,
             delta_per_second: 0.01,
             directed_min_reliability: 0.8,
+            directed_ramp: 0.0,
             flush_below: 1e-9,
             floor: 1e-8,
             cog_cut: 0.5,
@@ -277,6 +334,9 @@ impl GridConfig {
             ("delta_per_second", self.delta_per_second),
             ("flush_below", self.flush_below),
             ("reobserve_interval", self.reobserve_interval),
+            ("directed_ramp", self.directed_ramp),
+            ("forward_scale", self.forward_scale),
+            ("turn_scale", self.turn_scale),
         ] {
             if !nonneg(v) {
                 return Err(GridError::BadConfig {

@@ -28,11 +28,13 @@ mod workspace;
 pub use blur::Blur;
 pub use cap::Region;
 pub use cells::FuzzyGrid;
-pub use config::{Combine, Cuts, Dilation, ElementShape, GridConfig, SensorModel};
+pub use config::{
+    Combine, Cuts, Dilation, ElementShape, GridConfig, RaisedHeadings, SensorModel, Shift,
+};
 pub use estimate::Estimate;
 pub use observe::{Landmark, LandmarkTable, Observation};
 pub use place::LandmarkTruth;
-pub use predict::check_motion;
+pub use predict::{check_motion, MotionTrace};
 pub use trapezoid::Trapezoid;
 
 /// Everything that can go wrong in the grid layer. Variants carry the

@@ -1,5 +1,7 @@
 //! Starting the grid from a known pose (tracking) instead of total ignorance: the belief is the
-//! one cell holding the position, with the heading known exactly. Used to compare localizers
+//! one cell holding the position, with the heading known exactly (under
+//! [`Shift::Lattice`](super::Shift) the lattice is moved so that this cell's centre is the
+//! position). Used to compare localizers
 //! when all of them start from the same known first pose (`lplace compare --start-at-truth`).
 //!
 //! # Complexity
@@ -25,8 +27,9 @@ impl FuzzyGrid {
         if !theta.is_finite() {
             return Err(outside);
         }
-        let (c, r) = self.cell_of(x, y).ok_or(outside)?;
+        let (c, r) = self.start_cell(x, y).ok_or(outside)?;
         self.reset();
+        self.centre_lattice_on(x, y);
         self.h.fill(0.0);
         let k = r * self.nx + c;
         self.h[k] = 1.0;
@@ -34,6 +37,21 @@ impl FuzzyGrid {
         self.delta[k] = 0.0;
         self.bias[k] = 0.0;
         Ok(())
+    }
+
+    /// The cell that holds `(x, y)` once the belief is reset, and, under
+    /// [`Shift::Lattice`](super::Shift), the lattice centred on the point.
+    fn start_cell(&self, x: f32, y: f32) -> Option<(usize, usize)> {
+        if self.cfg.shift == super::Shift::Cells {
+            return self.cell_of(x, y);
+        }
+        let [cx, cy] = self.corner;
+        let s = self.cell;
+        let at = |v: f32, c: f32, n: usize| {
+            let k = ((v - c) / s - 0.5).round();
+            (k >= 0.0 && k < n as f32).then_some(k as usize)
+        };
+        Some((at(x, cx, self.nx)?, at(y, cy, self.ny)?))
     }
 }
 

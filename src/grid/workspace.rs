@@ -26,6 +26,10 @@ pub(crate) struct Workspace {
     pub(super) deque: Vec<u32>,
     /// Chunk maxima, minima and bounds of the dilation's offset passes.
     pub(super) cm: Vec<f32>,
+    /// The plane before a blur, for the heading sets of the cells it raises
+    /// ([`super::RaisedHeadings`]): empty until the first such blur, so that a grid that does
+    /// not use it does not pay a plane for it.
+    pub(super) before: Vec<f32>,
 }
 
 impl Workspace {
@@ -38,6 +42,7 @@ impl Workspace {
             line_out: vec![0.0; longest.max(super::dilate::padded_row(nx) + 32)],
             deque: vec![0; longest],
             cm: vec![0.0; super::dilate::chunk_len(nx, ny)],
+            before: Vec::new(),
         }
     }
 }

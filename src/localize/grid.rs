@@ -105,13 +105,13 @@ impl Localizer for GridLocalizer {
 
     fn predict(&mut self, odometry: &Odometry, dt: f64) -> Result<(), GridError> {
         self.grid.predict(odometry, dt)?;
-        // In the grid's single precision, as the grid composes it.
-        let (forward, left) = (odometry.forward as f32, odometry.left as f32);
+        // In the grid's single precision and calibration, as the grid composes it.
+        let [forward, left, turn] = self.grid.scaled(odometry);
         let [f, l, t] = &mut self.moved;
         let (s, c) = t.sin_cos();
         *f += c * forward - s * left;
         *l += s * forward + c * left;
-        *t += odometry.turn as f32;
+        *t += turn;
         Ok(())
     }
 
@@ -133,10 +133,11 @@ impl Localizer for GridLocalizer {
     fn estimate(&mut self) -> PoseEstimate {
         let e = self.grid.estimate();
         let [f, l, t] = self.moved;
-        let directed = e.heading_reliability >= self.grid.config().directed_min_reliability;
-        let (dx, dy, dt) = if directed {
+        // The share the next prediction will shift along the heading.
+        let w = self.grid.directed_weight(&e);
+        let (dx, dy, dt) = if w > 0.0 {
             let (s, c) = e.theta.sin_cos();
-            (c * f - s * l, s * f + c * l, t)
+            (w * (c * f - s * l), w * (s * f + c * l), t)
         } else {
             (0.0, 0.0, t)
         };

@@ -55,17 +55,18 @@ fn robot1_spreads() -> Option<(f64, f64, String)> {
     Some((landmarks, config.0, config.1))
 }
 
-/// Locks today's spread, measured 2.1 % (landmarks) and 6.0 % (configuration) with
-/// config/grid-mrclam.ron. Landmarks: issue 20's goal, 3 %. Configuration: 7 %, below the
-/// 8.3 % of the file before (config/grid-mrclam-hard.ron, which also fails the landmark
-/// bound with 13.8 %), so the test fails if the grid falls back to that fragility.
+/// Locks today's spread, measured 2.1 % (landmarks) and 6.0 % (configuration, its values now
+/// including the odometry factors) with config/grid-mrclam.ron, each with half a point of
+/// margin: 2.5 % (issue 20's goal is 3 %) and 6.5 % (the file before,
+/// config/grid-mrclam-hard.ron, gives 13.8 % and 8.3 %), so the test fails if the grid falls back
+/// towards that fragility.
 #[test]
 fn mrclam_robot1_ate_is_no_more_fragile_than_measured() {
     let Some((landmarks, config, worst)) = robot1_spreads() else {
         return;
     };
-    assert!(landmarks <= 0.03, "{landmarks}");
-    assert!(config <= 0.07, "{config} ({worst})");
+    assert!(landmarks <= 0.025, "{landmarks}");
+    assert!(config <= 0.065, "{config} ({worst})");
 }
 
 /// Issue 20's robustness goal for the configuration: ≤ 3 % (the landmark half is met and
