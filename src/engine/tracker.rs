@@ -1176,6 +1176,270 @@ mod tests {
         }
     }
 
+    /// `R_ij` of every pair of every live anchor's whole row (no window, no bound): `(j, R_ij)`.
+    fn plain_reach(t: &Tracker) -> Vec<Vec<(usize, f64)>> {
+        (0..t.n)
+            .map(|i| {
+                let row = t.gates.row(i);
+                let mut out = vec![0.0; row.len()];
+                if t.anchor[i] == 0.0 {
+                    return Vec::new();
+                }
+                match t.disp[i] {
+                    Some(d) => {
+                        let shape = displacement_gate(&t.cfg, t.since[i]);
+                        t.gates
+                            .fill_displacement(i, row.clone(), d, &shape, &mut out);
+                    }
+                    None => t.gates.pairs(row.clone()).fill(t.since[i], &mut out),
+                }
+                let targets = t.gates.target[row].iter().map(|&j| j as usize);
+                targets.zip(out).collect()
+            })
+            .collect()
+    }
+
+    /// The displacements carried as the module docs say (see `carry_displacement`).
+    fn plain_displacement(t: &mut Tracker, odo: Odometry, ds: f64, heading: Option<f64>) {
+        let now = heading
+            .filter(|h| t.cfg.use_heading && h.is_finite())
+            .map(f64::to_radians);
+        let (start, next) = carry_heading(t.heading, now, odo.turn);
+        if ds > 0.0 {
+            for d in &mut t.disp {
+                *d = match (start, *d) {
+                    (Some(th), Some(d)) => {
+                        let (sn, cs) = th.sin_cos();
+                        let x = cs * odo.forward - sn * odo.left;
+                        let y = sn * odo.forward + cs * odo.left;
+                        Some([
+                            (d[0] + x).clamp(-MAX_DISTANCE, MAX_DISTANCE),
+                            (d[1] + y).clamp(-MAX_DISTANCE, MAX_DISTANCE),
+                        ])
+                    }
+                    _ => None,
+                };
+            }
+        }
+        t.heading = next;
+    }
+
+    /// One step as the module docs state it, place by place and pair by pair: every anchor
+    /// carried over its whole row, every place intersected, every anchor revised against every
+    /// pair. The reference the tracker's shortcuts are compared with, bit for bit. Returns the
+    /// decision and the whole `pred`.
+    fn plain_step(
+        t: &mut Tracker,
+        ev: &PlaceDistribution,
+        odo: Odometry,
+        heading: Option<f64>,
+    ) -> (Decision, Vec<f64>) {
+        let (n, b, tn) = (t.n, clamp_degree(t.cfg.bias), t.cfg.tnorm);
+        let ds = Some(odo.distance())
+            .filter(|d| d.is_finite())
+            .unwrap_or(0.0);
+        for s in &mut t.since {
+            *s = (*s + ds).min(MAX_DISTANCE);
+        }
+        plain_displacement(t, odo, ds, heading);
+        let w = t.evidence_weight(ds);
+        let get = |v: &[f64], j: usize, miss: f64| clamp_degree(v.get(j).copied().unwrap_or(miss));
+        let e: Vec<f64> = (0..n)
+            .map(|j| get(&ev.possibility, j, 1.0))
+            .map(|v| if w == 1.0 { v } else { v.powf(w) })
+            .collect();
+        let reach = plain_reach(t);
+        let mut pred = vec![0.0f64; n];
+        for (i, row) in reach.iter().enumerate() {
+            for &(j, r) in row {
+                pred[j] = pred[j].max(t.anchor[i].min(r));
+            }
+        }
+        let (mut h, mut max_support) = (0.0f64, 0.0f64);
+        for j in 0..n {
+            let a = get(&ev.support, j, 0.0);
+            max_support = max_support.max(a);
+            let c = tn.apply(pred[j].max(b), e[j]);
+            t.dist.support[j] = a;
+            t.dist.exclusion[j] = get(&ev.exclusion, j, 0.0);
+            t.dist.possibility_raw[j] = c;
+            h = h.max(c);
+        }
+        (t.dist.height, t.dist.inconsistency) = (h, 1.0 - h);
+        if h < t.cfg.conflict {
+            for j in 0..n {
+                t.dist.possibility_raw[j] = pred[j].max(e[j]);
+            }
+        }
+        t.dist.normalise(t.cfg.normalisation);
+        for (i, row) in reach.iter().enumerate() {
+            let mut compat = 1.0 - max_support;
+            for &(j, r) in row {
+                compat = compat.max(r.min(t.dist.possibility[j].min(e[j])));
+            }
+            t.anchor[i] = tn.apply(t.anchor[i], compat.max(b));
+        }
+        for j in 0..n {
+            if get(&ev.support, j, 0.0) >= t.cfg.anchor_support {
+                (t.anchor[j], t.since[j]) = (t.dist.possibility[j], 0.0);
+                t.disp[j] = Some([0.0; 2]);
+            }
+        }
+        let top = t.anchor.iter().copied().fold(0.0, f64::max);
+        if top > 0.0 {
+            t.anchor.iter_mut().for_each(|m| *m /= top);
+        } else {
+            t.anchor.fill(1.0);
+            t.since.fill(0.0);
+            t.disp.fill(Some([0.0; 2]));
+        }
+        let d = decide(&t.dist, t.params);
+        let d = unless_unsupported(d, max_support, t.cfg.min_support, |k| {
+            get(&ev.support, k, 0.0)
+        });
+        (d, pred)
+    }
+
+    /// A random map of `k` places: discs and boxes scattered over 40 m, joined by a random tree
+    /// and a few more paths.
+    fn random_map(rng: &mut crate::core::rng::SplitMix64, k: usize) -> Map {
+        let mut text = String::new();
+        for i in 0..k {
+            let (x, y) = (40.0 * rng.unit(), 40.0 * rng.unit());
+            let extent = if rng.chance(0.5) {
+                format!("radius {:.2}", 0.2 + 2.0 * rng.unit())
+            } else {
+                let (w, h) = (0.5 + 3.0 * rng.unit(), 0.5 + 3.0 * rng.unit());
+                format!("box ({x:.2}, {y:.2}, {:.2}, {:.2})", x + w, y + h)
+            };
+            text += &format!("place P{i} corridor at ({x:.2}, {y:.2}) extent {extent};\n");
+        }
+        let mut joined = std::collections::HashSet::new();
+        for i in 1..k {
+            let extra = rng.chance(0.3).then(|| rng.below(i));
+            for j in [Some(rng.below(i)), extra].into_iter().flatten() {
+                if joined.insert((j, i)) {
+                    text += &format!("path P{j} -- P{i};\n");
+                }
+            }
+        }
+        Map::from_ast(&parse_map(&text).unwrap()).unwrap()
+    }
+
+    /// A degree from a few levels (ties and exact 0 and 1 are common).
+    fn level(rng: &mut crate::core::rng::SplitMix64) -> f64 {
+        match rng.below(8) {
+            0 | 1 => 0.0,
+            2 | 3 => 1.0,
+            k => 0.1 * k as f64 + 0.05 * rng.unit(),
+        }
+    }
+
+    /// A frame's evidence: flat (one level everywhere) or varied, support mostly 0 with a few
+    /// places up, now and then no support at all or evidence of the wrong length.
+    fn random_evidence(rng: &mut crate::core::rng::SplitMix64, n: usize) -> PlaceDistribution {
+        let n = if rng.chance(0.03) {
+            rng.below(n + 2)
+        } else {
+            n
+        };
+        let mut ev = PlaceDistribution::new(n);
+        let flat = rng.chance(0.5).then(|| level(rng));
+        let quiet = rng.chance(0.3);
+        for j in 0..n {
+            ev.possibility[j] = flat.unwrap_or_else(|| level(rng));
+            if !quiet && rng.chance(0.15) {
+                ev.support[j] = level(rng);
+            }
+            if rng.chance(0.3) {
+                ev.exclusion[j] = level(rng);
+            }
+        }
+        ev
+    }
+
+    /// A random configuration: every t-norm and normalisation, floors, gates and horizons.
+    fn random_config(rng: &mut crate::core::rng::SplitMix64) -> TrackerConfig {
+        let tnorm = [TNorm::Min, TNorm::Product, TNorm::Lukasiewicz][rng.below(3)];
+        let normalisation = [Normalisation::Min, Normalisation::Product][rng.below(2)];
+        TrackerConfig {
+            bias: [0.0, 0.1, 0.3, 0.05 + 0.2 * rng.unit()][rng.below(4)],
+            tnorm,
+            normalisation,
+            anchor_support: [0.0, 0.5, 0.8, 1.0][rng.below(4)],
+            min_support: 0.3 * rng.unit(),
+            conflict: [0.0, 0.3, 0.6][rng.below(3)],
+            use_heading: rng.chance(0.7),
+            evidence_length_m: [0.0, 0.0, 0.7][rng.below(3)],
+            horizon_m: [5.0, 15.0, 50.0][rng.below(3)],
+            tolerance: 0.3 + rng.unit(),
+            slope: [0.0, 1.0, 2.0 * rng.unit()][rng.below(3)],
+            ..TrackerConfig::default()
+        }
+    }
+
+    /// Everything a step leaves observable, as exact text: the decision, the distribution,
+    /// the state and the predicted possibilities (`{:?}` of an `f64` round-trips, signs of
+    /// zeros included).
+    fn observed(t: &Tracker, d: Decision, pred: &[f64]) -> String {
+        let dist = &t.dist;
+        format!(
+            "{d:?} {:?} {:?} {:?} {:?} {:?} {} {} {:?} {pred:?}",
+            dist.support,
+            dist.exclusion,
+            dist.possibility_raw,
+            dist.possibility,
+            dist.necessity,
+            dist.height,
+            dist.inconsistency,
+            t.state()
+        )
+    }
+
+    #[test]
+    fn the_step_is_the_plain_formulas_bit_for_bit() {
+        let mut rng = crate::core::rng::SplitMix64::new(16);
+        let params = DecisionParams {
+            threshold: 0.5,
+            margin: 0.1,
+        };
+        for case in 0..60 {
+            let k = 2 + rng.below(40);
+            let map = random_map(&mut rng, k);
+            let cfg = random_config(&mut rng);
+            let mut fast = Tracker::new(&map, params, cfg);
+            let mut plain = fast.clone();
+            for k in 0..300 {
+                if rng.chance(0.01) {
+                    let state = fast.state();
+                    let mut odd = state.clone();
+                    odd.anchor.iter_mut().for_each(|m| *m *= 0.5 * rng.unit());
+                    fast.restore(&odd);
+                    plain.restore(&odd);
+                }
+                let ev = random_evidence(&mut rng, fast.n);
+                let moving = rng.chance(0.8);
+                let odo = Odometry {
+                    forward: if moving { 1.5 * rng.unit() } else { 0.0 },
+                    left: if rng.chance(0.2) {
+                        0.3 * rng.unit()
+                    } else {
+                        0.0
+                    },
+                    turn: 0.2 * (rng.unit() - 0.5),
+                };
+                let heading = rng.chance(0.5).then(|| 360.0 * rng.unit());
+                let d = fast.step(&ev, odo, heading);
+                let (pd, pred) = plain_step(&mut plain, &ev, odo, heading);
+                let (a, b) = (
+                    observed(&fast, d, &fast.predicted()),
+                    observed(&plain, pd, &pred),
+                );
+                assert_eq!(a, b, "case {case}, step {k}, {cfg:?}");
+            }
+        }
+    }
+
     #[test]
     fn evidence_per_metre_tempers_each_frame_by_the_distance() {
         let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
