@@ -397,11 +397,6 @@ pub struct Tracker {
     /// Heading of the previous frame, radians, once some frame carried one.
     heading: Option<f64>,
     pred: Vec<f64>,
-    /// `R_ij` at this step's distances, one per pair of [`Gates`]: filled by the blur for the
-    /// pairs of each row's window, reused by the revision (`since` does not change in between).
-    reach: Vec<f64>,
-    /// Per row, the pairs of `reach` filled this step (`R_ij = 0` outside; see the blur).
-    window: Vec<(usize, usize)>,
     /// Per row, where its path-gate window was last found ([`Gates::window`]).
     cursor: Vec<Cursor>,
     /// Distance moved whose evidence has not been taken yet, metres; `None` before the first
@@ -410,15 +405,30 @@ pub struct Tracker {
     pending_evidence: Option<f64>,
     /// `e_j`, the frame's clamped possibility, read once per step rather than once per pair.
     evid: Vec<f64>,
-    /// The anchors below the bias floor whose pairs the last blur filled but did not carry into
-    /// `pred` (the first `low_len`, each with its value at the blur); see [`Tracker::blur`].
+    /// The anchors below the bias floor with pairs in reach that the last blur did not carry
+    /// into `pred` (the first `low_len`, each as it was at the blur); see [`Tracker::blur`].
     /// Sized `n` at construction, so that a step never grows it.
-    low: Vec<(u32, f64)>,
+    low: Vec<Low>,
     low_len: usize,
+    /// The highest of those anchors (0 if none).
+    low_max: f64,
     /// Whether `pred` holds those anchors' terms too (after a conflict union, or a reset).
     pred_full: bool,
-    /// `min(π'_j, e_j)`: how far the frame agrees with place `j` (the revision's inner term).
-    agree: Vec<f64>,
+    /// The places whose agreement with the frame exceeds the revision's floor, with it (the
+    /// first `hot_len`; see [`Tracker::revise`]).
+    hot: Vec<(u32, f64)>,
+    hot_len: usize,
+    /// Per anchor, the highest term a hot place raised its `compat` to this step, then its
+    /// revised value; −1 when untouched (every entry between steps).
+    raised: Vec<f64>,
+    /// The anchors `raised` holds a value for (the first `touched_len`).
+    touched: Vec<u32>,
+    touched_len: usize,
+    /// The places whose support reaches `anchor_support` this frame (the first `supported_len`).
+    supported: Vec<u32>,
+    supported_len: usize,
+    /// Whether the highest anchor is exactly 1 (after the renormalisation every step ends with).
+    top_is_one: bool,
     dist: PlaceDistribution,
     decision: Decision,
 }
@@ -437,7 +447,7 @@ fn extent_radius(e: Extent) -> f64 {
 /// distance `s` are one contiguous window ([`Gates::window`]). Pairs outside a row have
 /// `R_ij = 0`, as pairs with no path always had.
 ///
-/// One branch-free expression ([`GateRow::fill`]) gives exactly
+/// One branch-free expression ([`path_reach`]) gives exactly
 /// [`Similarity::degree`](crate::logic::Similarity::degree)`(s, L'_ij)` of the shape `core =
 /// 2(tolerance + tolerance_rel·L)`, `slope = slope + slope_rel·L`, height 1, bias 0: `half =
 /// tolerance + tolerance_rel·L` is `0.5 · core` exactly (scaling by 2 and ½ is exact), and a
@@ -462,6 +472,12 @@ struct Gates {
     shape: [f64; 4],
     /// Each place's extent as a rounded box, for the displacement gates.
     extents: Vec<([f64; 4], f64)>,
+    /// The rows transposed: column `j` is `col_start[j]..col_start[j + 1]` of `col`, each entry
+    /// `(i, k)` a pair `k` of row `i` whose target is `j`, so that the anchors a place can
+    /// raise are found from the place ([`Tracker::revise`]). Pair indices fit `u32`: a map
+    /// with more pairs could not hold its rows in memory.
+    col_start: Vec<usize>,
+    col: Vec<(u32, u32)>,
 }
 
 /// An extent as a box `[x_lo, x_hi, y_lo, y_hi]` with a rounding radius: a box is itself with
@@ -473,10 +489,11 @@ fn rounded_box(pose: (f64, f64), e: Extent) -> ([f64; 4], f64) {
     }
 }
 
-/// The pairs of one row that a path gate is evaluated on: `target[k]`, `length[k]`.
-struct GateRow<'a> {
-    length: &'a [f64],
-    shape: [f64; 4],
+/// How one anchor's pairs are gated in a step: by path length at its distance `s`, or by its
+/// displacement (its extent moved, and the gate at its distance, see [`displacement_gate`]).
+enum Gate {
+    Path(f64),
+    Displacement(([f64; 4], f64), Similarity),
 }
 
 impl Gates {
@@ -500,6 +517,8 @@ impl Gates {
                 .iter()
                 .map(|p| rounded_box((p.pose.0, p.pose.1), p.extent))
                 .collect(),
+            col_start: Vec::new(),
+            col: Vec::new(),
         };
         let mut search = BoundedDijkstra::new();
         let mut row: Vec<(f64, usize)> = Vec::new();
@@ -538,7 +557,43 @@ impl Gates {
             }
         }
         g.start.push(g.target.len());
+        g.transpose(n);
         g
+    }
+
+    /// Fills the columns from the rows (a counting sort by target; each column in row order).
+    fn transpose(&mut self, n: usize) {
+        let mut start = vec![0usize; n + 1];
+        for &j in &self.target {
+            if let Some(c) = start.get_mut(j as usize + 1) {
+                *c += 1;
+            }
+        }
+        for j in 0..n {
+            start[j + 1] += start[j];
+        }
+        let mut next = start.clone();
+        self.col = vec![(0, 0); start[n]];
+        for i in 0..n {
+            for k in self.row(i) {
+                let Some(at) = next.get_mut(self.target[k] as usize) else {
+                    continue;
+                };
+                if let Some(e) = self.col.get_mut(*at) {
+                    *e = (i as u32, u32::try_from(k).unwrap_or(u32::MAX));
+                }
+                *at += 1;
+            }
+        }
+        self.col_start = start;
+    }
+
+    /// The entries `(i, k)` of column `j` (empty when out of range).
+    fn column(&self, j: usize) -> &[(u32, u32)] {
+        match (self.col_start.get(j), self.col_start.get(j + 1)) {
+            (Some(&a), Some(&b)) => self.col.get(a..b).unwrap_or(&[]),
+            _ => &[],
+        }
     }
 
     /// The index range of row `i` (empty when out of range).
@@ -590,38 +645,64 @@ impl Gates {
         row.start + cur.lo.at..row.start + hi.max(cur.lo.at)
     }
 
-    /// The path-gate view of the pairs in `range`.
-    fn pairs(&self, range: std::ops::Range<usize>) -> GateRow<'_> {
-        GateRow {
-            length: &self.length[range],
-            shape: self.shape,
+    /// The gate of anchor `i` at distance `s` with displacement `disp` (see [`Gate`]).
+    fn gate(&self, cfg: &TrackerConfig, i: usize, s: f64, disp: Option<[f64; 2]>) -> Gate {
+        match (disp, self.extents.get(i)) {
+            (Some(d), Some(&(a, ra))) => {
+                let moved = [a[0] + d[0], a[1] + d[0], a[2] + d[1], a[3] + d[1]];
+                Gate::Displacement((moved, ra), displacement_gate(cfg, s))
+            }
+            _ => Gate::Path(s),
         }
     }
 
-    /// `out[k] = R_ij` by displacement for the pairs `k` of `range` (row `i`): the extent of
-    /// anchor `i` moved by `d` against each extent `j`, through `shape` (the gate at the
-    /// anchor's distance, see [`displacement_gate`]).
-    fn fill_displacement(
-        &self,
-        i: usize,
-        range: std::ops::Range<usize>,
-        d: [f64; 2],
-        shape: &Similarity,
-        out: &mut [f64],
-    ) {
-        let Some(&(a, ra)) = self.extents.get(i) else {
-            return;
+    /// `R_ij` by displacement: the moved extent `(m, ra)` of the anchor against extent `j`.
+    #[inline]
+    fn displacement_reach(&self, (m, ra): &([f64; 4], f64), j: u32, shape: &Similarity) -> f64 {
+        let Some((b, rb)) = self.extents.get(j as usize) else {
+            return 0.0;
         };
-        let moved = [a[0] + d[0], a[1] + d[0], a[2] + d[1], a[3] + d[1]];
-        for (o, &j) in out.iter_mut().zip(&self.target[range]) {
-            let Some((b, rb)) = self.extents.get(j as usize) else {
-                *o = 0.0;
-                continue;
-            };
-            let gx = (b[0] - moved[1]).max(moved[0] - b[1]).max(0.0);
-            let gy = (b[2] - moved[3]).max(moved[2] - b[3]).max(0.0);
-            let gap = (gx.hypot(gy) - ra - rb).max(0.0);
-            *o = shape.degree(gap, 0.0);
+        let gx = (b[0] - m[1]).max(m[0] - b[1]).max(0.0);
+        let gy = (b[2] - m[3]).max(m[2] - b[3]).max(0.0);
+        let gap = (gx.hypot(gy) - ra - rb).max(0.0);
+        shape.degree(gap, 0.0)
+    }
+
+    /// `R_ij` of pair `k` through `gate` (0 for a pair out of range).
+    fn reach(&self, gate: &Gate, k: usize) -> f64 {
+        match gate {
+            Gate::Path(s) => self
+                .length
+                .get(k)
+                .map_or(0.0, |&l| path_reach(self.shape, *s, l)),
+            Gate::Displacement(moved, shape) => self
+                .target
+                .get(k)
+                .map_or(0.0, |&j| self.displacement_reach(moved, j, shape)),
+        }
+    }
+
+    /// `pred_j = max(pred_j, min(a, R_ij))` over the pairs `range` of an anchor of value `a`
+    /// gated by `gate`. `R_ij` is computed here, pair by pair, rather than stored: each pair is
+    /// read once per step, by the anchors that can raise `pred`.
+    fn carry(&self, pred: &mut [f64], gate: &Gate, range: std::ops::Range<usize>, a: f64) {
+        let targets = self.target.get(range.clone()).unwrap_or(&[]);
+        match gate {
+            Gate::Path(s) => {
+                let lengths = self.length.get(range).unwrap_or(&[]);
+                for (&j, &l) in targets.iter().zip(lengths) {
+                    if let Some(p) = pred.get_mut(j as usize) {
+                        *p = p.max(a.min(path_reach(self.shape, *s, l)));
+                    }
+                }
+            }
+            Gate::Displacement(moved, shape) => {
+                for &j in targets {
+                    if let Some(p) = pred.get_mut(j as usize) {
+                        *p = p.max(a.min(self.displacement_reach(moved, j, shape)));
+                    }
+                }
+            }
         }
     }
 }
@@ -654,6 +735,18 @@ impl Default for End {
     }
 }
 
+/// An anchor below the bias floor as the blur found it: its place, value, gate and the pairs
+/// its gate can reach (see [`Tracker::carry_low`]).
+#[derive(Debug, Clone, Copy, Default)]
+struct Low {
+    i: u32,
+    a: f64,
+    s: f64,
+    disp: Option<[f64; 2]>,
+    lo: usize,
+    hi: usize,
+}
+
 /// Moves `end` to the first index of `xs` where `holds` fails, `holds` being true on a prefix of
 /// `xs` that contains `..end.at`: a few steps forward, then a binary search of the rest — the
 /// index [`slice::partition_point`] finds on the whole of `xs`.
@@ -680,16 +773,6 @@ fn advance(xs: &[f64], end: &mut End, holds: impl Fn(f64) -> bool) {
     end.next = xs.get(k).copied().unwrap_or(f64::INFINITY);
 }
 
-/// `pred_j = max(pred_j, min(a, R_ij))` for the pairs `targets`, `reach` of one anchor of value
-/// `a`.
-fn carry(pred: &mut [f64], targets: &[u32], reach: &[f64], a: f64) {
-    for (&j, &r) in targets.iter().zip(reach) {
-        if let Some(p) = pred.get_mut(j as usize) {
-            *p = p.max(a.min(r));
-        }
-    }
-}
-
 /// The displacement gate `s` metres after its anchor: full match within `tolerance_d +
 /// tolerance_d_rel·s` of the target extent, falling to 0 over `slope_d + slope_d_rel·s`.
 pub fn displacement_gate(cfg: &TrackerConfig, s: f64) -> Similarity {
@@ -702,19 +785,20 @@ pub fn displacement_gate(cfg: &TrackerConfig, s: f64) -> Similarity {
     )
 }
 
-impl GateRow<'_> {
-    /// `out[k] = R_ij` at distance `s` from anchor `i`, for the pairs of this window.
-    #[inline]
-    fn fill(&self, s: f64, out: &mut [f64]) {
-        let [tol, tol_rel, slope0, slope_rel] = self.shape;
-        for (o, &l) in out.iter_mut().zip(self.length) {
-            let half = tol + tol_rel * l;
-            let slope = slope0 + slope_rel * l;
-            let slope = if slope > 0.0 { slope } else { 0.0 };
-            let d = (s - l).abs();
-            let f = (1.0 - (d - half) / slope).max(0.0);
-            *o = if d <= half { 1.0 } else { f };
-        }
+/// `R_ij` of a path gate of `shape` (`tolerance`, `tolerance_rel`, `slope`, `slope_rel`) at
+/// distance `s` for a pair of length `l`: the branch-free trapezoid of [`Gates`].
+#[inline]
+fn path_reach(shape: [f64; 4], s: f64, l: f64) -> f64 {
+    let [tol, tol_rel, slope0, slope_rel] = shape;
+    let half = tol + tol_rel * l;
+    let slope = slope0 + slope_rel * l;
+    let slope = if slope > 0.0 { slope } else { 0.0 };
+    let d = (s - l).abs();
+    let f = (1.0 - (d - half) / slope).max(0.0);
+    if d <= half {
+        1.0
+    } else {
+        f
     }
 }
 
@@ -723,7 +807,6 @@ impl Tracker {
     pub fn new(map: &Map, params: DecisionParams, cfg: TrackerConfig) -> Tracker {
         let n = map.places().len();
         let gates = Gates::new(map, &cfg);
-        let pairs = gates.target.len();
         let mut t = Tracker {
             cfg,
             params,
@@ -734,15 +817,21 @@ impl Tracker {
             disp: vec![Some([0.0; 2]); n],
             heading: None,
             pred: vec![1.0; n],
-            reach: vec![0.0; pairs],
-            window: vec![(0, 0); n],
             cursor: vec![Cursor::default(); n],
             pending_evidence: None,
             evid: vec![0.0; n],
-            low: vec![(0, 0.0); n],
+            low: vec![Low::default(); n],
             low_len: 0,
+            low_max: 0.0,
             pred_full: true,
-            agree: vec![0.0; n],
+            hot: vec![(0, 0.0); n],
+            hot_len: 0,
+            raised: vec![-1.0; n],
+            touched: vec![0; n],
+            touched_len: 0,
+            supported: vec![0; n],
+            supported_len: 0,
+            top_is_one: true,
             dist: PlaceDistribution::new(n),
             decision: Decision::Disoriented(Disoriented::NoPlaces),
         };
@@ -759,6 +848,7 @@ impl Tracker {
         self.pred.fill(1.0);
         self.low_len = 0;
         self.pred_full = true;
+        self.top_is_one = true;
         self.pending_evidence = None;
         self.dist = PlaceDistribution::new(self.n);
         self.decision = undecided(self.n);
@@ -779,7 +869,6 @@ impl Tracker {
         odometry: Odometry,
         heading: Option<f64>,
     ) -> Decision {
-        let n = self.n;
         let b = clamp_degree(self.cfg.bias);
         let ds = odometry.distance();
         let ds = if ds.is_finite() { ds } else { 0.0 };
@@ -787,71 +876,77 @@ impl Tracker {
             *s = (*s + ds).min(MAX_DISTANCE);
         }
         self.carry_displacement(odometry, ds, heading);
-        let ev =
-            |v: &[f64], j: usize, missing: f64| clamp_degree(v.get(j).copied().unwrap_or(missing));
         let w = self.evidence_weight(ds);
-        for (j, e) in self.evid.iter_mut().enumerate() {
-            let v = ev(&evidence.possibility, j, 1.0);
-            // `powf(1)` is exact: with evidence per frame nothing changes.
-            *e = if w == 1.0 { v } else { v.powf(w) };
-        }
 
         self.blur(b);
 
-        let max_support = self.intersect(evidence, b);
+        let max_support = self.intersect(evidence, b, w);
 
         // Revise the anchors: keep those the frame agrees with, re-anchor supported places.
-        let between = 1.0 - max_support;
-        for (g, (&p, &e)) in self
-            .agree
-            .iter_mut()
-            .zip(self.dist.possibility.iter().zip(&self.evid))
-        {
-            *g = p.min(e);
-        }
-        self.revise(between, b);
-        for j in 0..n {
-            if ev(&evidence.support, j, 0.0) >= self.cfg.anchor_support {
-                self.anchor[j] = self.dist.possibility[j];
-                self.since[j] = 0.0;
-                self.disp[j] = Some([0.0; 2]);
+        let changed = self.revise(1.0 - max_support, b);
+        self.reanchor(changed);
+
+        self.decision = decide(&self.dist, self.params);
+        self.decision = unless_unsupported(self.decision, max_support, self.cfg.min_support, |k| {
+            clamp_degree(evidence.support.get(k).copied().unwrap_or(0.0))
+        });
+        self.decision
+    }
+
+    /// Re-anchors the supported places (`m_j = π'_j`, `s_j = 0`) and renormalises the anchors
+    /// to height 1. When neither the revision (`changed`) nor a re-anchoring changed an anchor
+    /// and the highest is already exactly 1, the renormalisation would divide by 1, which
+    /// changes nothing: it is skipped (most frames of a walk, the ones with no support).
+    fn reanchor(&mut self, changed: bool) {
+        for &j in self.supported.iter().take(self.supported_len) {
+            let j = j as usize;
+            let pi = self.dist.possibility.get(j).copied().unwrap_or(0.0);
+            let slots = (self.anchor.get_mut(j), self.since.get_mut(j));
+            if let (Some(m), Some(s), Some(d)) = (slots.0, slots.1, self.disp.get_mut(j)) {
+                (*m, *s, *d) = (pi, 0.0, Some([0.0; 2]));
             }
+        }
+        if !changed && self.supported_len == 0 && self.top_is_one {
+            return;
         }
         let top = self.anchor.iter().copied().fold(0.0, f64::max);
         if top > 0.0 {
-            for m in &mut self.anchor {
-                *m /= top;
+            // `m / 1 = m`; otherwise the highest becomes `top / top = 1` exactly.
+            if top != 1.0 {
+                for m in &mut self.anchor {
+                    *m /= top;
+                }
             }
         } else {
             self.anchor.fill(1.0);
             self.since.fill(0.0);
             self.disp.fill(Some([0.0; 2]));
         }
-
-        self.decision = decide(&self.dist, self.params);
-        self.decision = unless_unsupported(self.decision, max_support, self.cfg.min_support, |k| {
-            ev(&evidence.support, k, 0.0)
-        });
-        self.decision
+        self.top_is_one = true;
     }
 
     /// Intersects the carried belief with the evidence (`c_j = T(max(pred_j, b), e_j)`, or
     /// their union when they do not overlap, see the module docs), fills `dist` and normalises
-    /// it; returns the frame's highest support.
-    fn intersect(&mut self, evidence: &PlaceDistribution, b: f64) -> f64 {
-        let (h, max_support) = self.intersect_terms(evidence, b);
+    /// it; returns the frame's highest support. `w` is the power the evidence is taken to.
+    fn intersect(&mut self, evidence: &PlaceDistribution, b: f64, w: f64) -> f64 {
+        let (h, max_support, e_min) = self.intersect_terms(evidence, b, w);
         self.dist.height = h;
         self.dist.inconsistency = 1.0 - h;
         if h < self.cfg.conflict {
             // Belief and evidence do not overlap: keep both (their union) rather than the
             // little their intersection leaves, so that the next frames can tell which was right.
-            // The union reads `pred` itself, not above the floor: it needs every anchor's terms.
-            let mut pred = std::mem::take(&mut self.pred);
-            self.carry_low(&mut pred);
-            self.pred = pred;
-            self.pred_full = true;
-            for j in 0..self.n {
-                self.dist.possibility_raw[j] = self.pred[j].max(self.evid[j]);
+            // The union reads `pred` itself, not above the floor, so the anchors the blur left
+            // out count too — unless none of their terms (each at most `low_max`) can exceed
+            // the evidence it is joined with (every `e_j ≥ e_min`): max selects exactly.
+            if !(self.low_max <= e_min) {
+                let mut pred = std::mem::take(&mut self.pred);
+                self.carry_low(&mut pred);
+                self.pred = pred;
+                self.pred_full = true;
+            }
+            let raw = self.dist.possibility_raw.iter_mut();
+            for (c, (&p, &e)) in raw.zip(self.pred.iter().zip(&self.evid)) {
+                *c = p.max(e);
             }
         }
         // In the union case `possibility_raw` now holds the union, whose height normalises.
@@ -859,129 +954,208 @@ impl Tracker {
         max_support
     }
 
-    /// `c_j`, support and exclusion of every place into `dist`; returns the height of `c` and
-    /// the highest support. Evidence of the map's length (what the engine gives) is read in one
-    /// pass over the columns; other lengths read missing places as "no evidence".
-    fn intersect_terms(&mut self, evidence: &PlaceDistribution, b: f64) -> (f64, f64) {
-        let t = self.cfg.tnorm;
-        let (mut h, mut max_support) = (0.0f64, 0.0f64);
-        let n = self.n;
-        let (sup, exc) = (&evidence.support, &evidence.exclusion);
-        let d = &mut self.dist;
-        if sup.len() == n && exc.len() == n && d.support.len() == n {
-            let out = d.support.iter_mut().zip(&mut d.exclusion);
-            let out = out.zip(&mut d.possibility_raw);
-            let input = sup.iter().zip(exc).zip(self.pred.iter().zip(&self.evid));
-            for (((s, x), raw), ((&a, &z), (&p, &e))) in out.zip(input) {
-                let a = clamp_degree(a);
-                max_support = max_support.max(a);
-                let c = t.apply(p.max(b), e);
-                (*s, *x, *raw) = (a, clamp_degree(z), c);
-                h = h.max(c);
-            }
-            return (h, max_support);
-        }
-        let ev = |v: &[f64], j: usize| clamp_degree(v.get(j).copied().unwrap_or(0.0));
-        for j in 0..n {
-            let a = ev(sup, j);
+    /// `e_j` (the clamped possibility to the power `w`), `c_j`, support and exclusion of every
+    /// place into `evid` and `dist`, the places whose support reaches `anchor_support` into
+    /// `supported`; returns the height of `c`, the highest support and the lowest `e_j`. One
+    /// pass over the columns when the evidence has the map's length (what the engine gives);
+    /// other lengths read missing places as "no evidence".
+    fn intersect_terms(&mut self, evidence: &PlaceDistribution, b: f64, w: f64) -> (f64, f64, f64) {
+        let (t, anchor_support, n) = (self.cfg.tnorm, self.cfg.anchor_support, self.n);
+        let (mut h, mut max_support, mut e_min) = (0.0f64, 0.0f64, 1.0f64);
+        let (supported, len) = (&mut self.supported, &mut self.supported_len);
+        *len = 0;
+        let mut place = |j: usize, v: f64, a: f64, p: f64, e_out: &mut f64| -> f64 {
+            // `powf(1)` is exact: with evidence per frame nothing changes.
+            let e = if w == 1.0 { v } else { v.powf(w) };
+            *e_out = e;
+            e_min = e_min.min(e);
             max_support = max_support.max(a);
-            let c = t.apply(self.pred[j].max(b), self.evid[j]);
-            d.support[j] = a;
-            d.exclusion[j] = ev(exc, j);
-            d.possibility_raw[j] = c;
+            if a >= anchor_support {
+                if let Some(slot) = supported.get_mut(*len) {
+                    (*slot, *len) = (j as u32, *len + 1);
+                }
+            }
+            let c = t.apply(p.max(b), e);
             h = h.max(c);
+            c
+        };
+        let (pos, sup, exc) = (
+            &evidence.possibility,
+            &evidence.support,
+            &evidence.exclusion,
+        );
+        let d = &mut self.dist;
+        if pos.len() == n && sup.len() == n && exc.len() == n && d.support.len() == n {
+            let out = d.support.iter_mut().zip(&mut d.exclusion);
+            let out = out.zip(d.possibility_raw.iter_mut().zip(&mut self.evid));
+            let input = pos.iter().zip(sup).zip(exc.iter().zip(&self.pred));
+            for (j, (((s, x), (raw, e)), ((&v, &a), (&z, &p)))) in out.zip(input).enumerate() {
+                let a = clamp_degree(a);
+                (*s, *x) = (a, clamp_degree(z));
+                *raw = place(j, clamp_degree(v), a, p, e);
+            }
+        } else {
+            let ev =
+                |v: &[f64], j: usize, miss: f64| clamp_degree(v.get(j).copied().unwrap_or(miss));
+            for j in 0..n {
+                let a = ev(sup, j, 0.0);
+                d.support[j] = a;
+                d.exclusion[j] = ev(exc, j, 0.0);
+                d.possibility_raw[j] =
+                    place(j, ev(pos, j, 1.0), a, self.pred[j], &mut self.evid[j]);
+            }
         }
-        (h, max_support)
+        (h, max_support, e_min)
     }
 
-    /// Blur: carries each anchor along the graph into `pred`, filling `reach` with every `R_ij`
-    /// that can be non-zero (the revision needs them too). Only the pairs within the horizon
-    /// are stored, and of those a path gate fills only its row's window ([`Gates::window`]): an
-    /// anchor farther than every path from it (common, as `s_i` grows until the place is seen
-    /// again) has an empty window and raises no `pred` and no `compat`. Max and min select
-    /// exactly, so neither the order of the terms nor the pairs left out (all `R_ij = 0`, and
-    /// `min(m_i, 0) = 0`) change `pred`.
+    /// Blur: carries each anchor along the graph into `pred`, computing `R_ij` pair by pair
+    /// (see [`Gates::carry`]). Only the pairs within the horizon are stored, and of those a path
+    /// gate visits only its row's window ([`Gates::window`]): an anchor farther than every path
+    /// from it (common, as `s_i` grows until the place is seen again) has an empty window and
+    /// raises no `pred`. Max and min select exactly, so neither the order of the terms nor the
+    /// pairs left out (all `R_ij = 0`, and `min(m_i, 0) = 0`) change `pred`.
     ///
-    /// An anchor below the bias floor (`m_i < b`) fills its pairs but is not carried: its terms
-    /// `min(m_i, R_ij) < b` cannot change `max(pred_j, b)`, the only form in which the
-    /// intersection reads `pred` (for every t-norm). Only the conflict union reads `pred_j`
-    /// itself, and [`Tracker::predicted`] shows it: both add those terms from the list kept here
-    /// ([`Tracker::carry_low`]), the windows and `reach` being unchanged until the next blur. On
-    /// a large map most anchors are below the floor (the product t-norm shrinks the unsupported
-    /// ones every frame), so the blur carries a handful of rows instead of every live one.
+    /// An anchor below the bias floor (`m_i < b`) is not carried: its terms `min(m_i, R_ij) < b`
+    /// cannot change `max(pred_j, b)`, the only form in which the intersection reads `pred`
+    /// (for every t-norm). Only the conflict union reads `pred_j` itself, and
+    /// [`Tracker::predicted`] shows it: both add those terms from the list kept here
+    /// ([`Tracker::carry_low`]). On a large map most anchors are below the floor (the product
+    /// t-norm shrinks the unsupported ones every frame), so the blur carries a handful of rows
+    /// instead of every live one.
     fn blur(&mut self, b: f64) {
         self.pred.fill(0.0);
-        self.low_len = 0;
-        self.pred_full = false;
+        (self.low_len, self.low_max, self.pred_full) = (0, 0.0, false);
         for i in 0..self.n {
-            let (a, s) = (self.anchor[i], self.since[i]);
+            let a = self.anchor[i];
             if a == 0.0 {
                 // `min(0, R) = 0` raises no `pred`, and the revision keeps `T(0, x) = 0` for
                 // every t-norm whatever `compat` is: a dead anchor (the product t-norm drives
                 // unsupported anchors to exactly 0 in a few hundred frames) costs nothing.
-                self.window[i] = (0, 0);
                 continue;
             }
-            let range = match self.disp[i] {
-                Some(d) => {
-                    let range = self.gates.row(i);
-                    let shape = displacement_gate(&self.cfg, s);
-                    let out = &mut self.reach[range.clone()];
-                    self.gates
-                        .fill_displacement(i, range.clone(), d, &shape, out);
-                    range
-                }
-                None => {
-                    let range = self.gates.window(i, s, &mut self.cursor[i]);
-                    let out = &mut self.reach[range.clone()];
-                    self.gates.pairs(range.clone()).fill(s, out);
-                    range
-                }
+            let (s, disp) = (self.since[i], self.disp[i]);
+            let range = match disp {
+                Some(_) => self.gates.row(i),
+                None => self.gates.window(i, s, &mut self.cursor[i]),
             };
-            self.window[i] = (range.start, range.end);
-            if a < b && !range.is_empty() {
+            if range.is_empty() {
+                continue;
+            }
+            if a < b {
                 if let Some(slot) = self.low.get_mut(self.low_len) {
-                    *slot = (i as u32, a);
+                    let (i, lo, hi) = (i as u32, range.start, range.end);
+                    *slot = Low {
+                        i,
+                        a,
+                        s,
+                        disp,
+                        lo,
+                        hi,
+                    };
                     self.low_len += 1;
+                    self.low_max = self.low_max.max(a);
                     continue;
                 }
             }
-            let (targets, reach) = (&self.gates.target[range.clone()], &self.reach[range]);
-            carry(&mut self.pred, targets, reach, a);
+            let gate = self.gates.gate(&self.cfg, i, s, disp);
+            self.gates.carry(&mut self.pred, &gate, range, a);
         }
     }
 
-    /// Adds to `pred` the terms of the anchors the last blur left out (see [`Tracker::blur`]).
+    /// Adds to `pred` the terms of the anchors the last blur left out (see [`Tracker::blur`]),
+    /// each as it was at the blur.
     fn carry_low(&self, pred: &mut [f64]) {
-        for &(i, a) in self.low.iter().take(self.low_len) {
-            let (lo, hi) = self.window.get(i as usize).copied().unwrap_or((0, 0));
-            carry(pred, &self.gates.target[lo..hi], &self.reach[lo..hi], a);
+        for l in self.low.iter().take(self.low_len) {
+            let gate = self.gates.gate(&self.cfg, l.i as usize, l.s, l.disp);
+            self.gates.carry(pred, &gate, l.lo..l.hi, l.a);
         }
     }
 
     /// Revises each anchor by how well the frame agrees with it: `m_i ← T(m_i, max(compat_i,
-    /// b))`, `compat_i = max(between, max_j min(R_ij, agree_j))` over the pairs the blur filled
-    /// (the others have `R_ij = 0`, which cannot raise a maximum that starts at `between ≥ 0`).
-    /// With the min t-norm an anchor below the floor (`m_i < b ≤ max(compat_i, b)`) keeps its
-    /// value whatever `compat_i` is, so its pairs are not read. In a frame with no support at
-    /// all (`between = 1`) no pair is read either: each term `min(R_ij, agree_j) ≤ agree_j ≤ 1`
-    /// (`agree` is never NaN: `e_j` is clamped), so `compat_i` stays exactly 1.
-    fn revise(&mut self, between: f64, b: f64) {
+    /// b))`, `compat_i = max(between, max_j min(R_ij, agree_j))`, `agree_j = min(π'_j, e_j)`;
+    /// returns whether any anchor may have changed.
+    ///
+    /// Only what can matter is read. A term raises `max(compat_i, b)` above `floor = max(between,
+    /// b)` only if it exceeds `floor`, hence only through a place with `agree_j > floor` — a
+    /// *hot* place, a handful per frame, none in a frame with no support at all (`floor = 1`).
+    /// So the pairs are read from the hot places' columns ([`Gates::column`]), and every other
+    /// anchor gets `T(m_i, floor)` — which is `m_i` itself, and skipped, when `floor = 1` with
+    /// the min (`m_i ≤ 1`) or product t-norm. Max selects exactly, so the order of the terms
+    /// does not matter, and a dead anchor stays `T(0, x) = 0` whatever its terms.
+    fn revise(&mut self, between: f64, b: f64) -> bool {
         let t = self.cfg.tnorm;
-        let keeps_low = t == TNorm::Min;
-        let no_pairs = between >= 1.0;
-        for (m, &(lo, hi)) in self.anchor.iter_mut().zip(&self.window) {
-            if keeps_low && *m < b {
-                continue;
+        let floor = between.max(b);
+        self.find_hot(floor);
+        self.raise(floor);
+        let unchanged = floor == 1.0 && t != TNorm::Lukasiewicz;
+        if !unchanged {
+            for m in &mut self.anchor {
+                *m = t.apply(*m, floor);
             }
-            let mut compat = between;
-            let (lo, hi) = if no_pairs { (lo, lo) } else { (lo, hi) };
-            let pairs = self.gates.target[lo..hi].iter().zip(&self.reach[lo..hi]);
-            for (&j, &r) in pairs {
-                let g = self.agree.get(j as usize).copied().unwrap_or(0.0);
-                compat = compat.max(r.min(g));
+        }
+        for &i in self.touched.iter().take(self.touched_len) {
+            let i = i as usize;
+            if let (Some(m), Some(r)) = (self.anchor.get_mut(i), self.raised.get_mut(i)) {
+                (*m, *r) = (*r, -1.0);
             }
-            *m = t.apply(*m, compat.max(b));
+        }
+        !unchanged || self.touched_len > 0
+    }
+
+    /// The hot places of the revision: `agree_j > floor` (none can exceed `floor ≥ 1`).
+    fn find_hot(&mut self, floor: f64) {
+        self.hot_len = 0;
+        if !(floor < 1.0) {
+            return;
+        }
+        let agree = self.dist.possibility.iter().zip(&self.evid);
+        for (j, (&p, &e)) in agree.enumerate() {
+            let g = p.min(e);
+            if g > floor {
+                if let Some(slot) = self.hot.get_mut(self.hot_len) {
+                    (*slot, self.hot_len) = ((j as u32, g), self.hot_len + 1);
+                }
+            }
+        }
+    }
+
+    /// For each anchor a hot place raises above `floor`, its revised value `T(m_i, max_j
+    /// min(R_ij, agree_j))` into `raised` (see [`Tracker::revise`]), read from the columns.
+    fn raise(&mut self, floor: f64) {
+        self.touched_len = 0;
+        for &(j, g) in self.hot.iter().take(self.hot_len) {
+            for &(i, k) in self.gates.column(j as usize) {
+                let i = i as usize;
+                let (Some(&m), Some(&s), Some(&disp)) =
+                    (self.anchor.get(i), self.since.get(i), self.disp.get(i))
+                else {
+                    continue;
+                };
+                if m == 0.0 {
+                    continue;
+                }
+                let gate = self.gates.gate(&self.cfg, i, s, disp);
+                let term = self.gates.reach(&gate, k as usize).min(g);
+                let Some(r) = self.raised.get_mut(i) else {
+                    continue;
+                };
+                if term > floor {
+                    if *r < 0.0 {
+                        if let Some(slot) = self.touched.get_mut(self.touched_len) {
+                            (*slot, self.touched_len) = (i as u32, self.touched_len + 1);
+                        }
+                    }
+                    *r = r.max(term);
+                }
+            }
+        }
+        let t = self.cfg.tnorm;
+        for &i in self.touched.iter().take(self.touched_len) {
+            if let (Some(r), Some(&m)) =
+                (self.raised.get_mut(i as usize), self.anchor.get(i as usize))
+            {
+                *r = t.apply(m, *r);
+            }
         }
     }
 
@@ -1087,6 +1261,7 @@ impl Tracker {
             .heading
             .filter(|h| h.is_finite())
             .map(|h| h.to_radians().rem_euclid(std::f64::consts::TAU));
+        self.top_is_one = self.anchor.iter().copied().fold(0.0, f64::max) == 1.0;
         true
     }
 }
@@ -1180,21 +1355,14 @@ mod tests {
     fn plain_reach(t: &Tracker) -> Vec<Vec<(usize, f64)>> {
         (0..t.n)
             .map(|i| {
-                let row = t.gates.row(i);
-                let mut out = vec![0.0; row.len()];
                 if t.anchor[i] == 0.0 {
                     return Vec::new();
                 }
-                match t.disp[i] {
-                    Some(d) => {
-                        let shape = displacement_gate(&t.cfg, t.since[i]);
-                        t.gates
-                            .fill_displacement(i, row.clone(), d, &shape, &mut out);
-                    }
-                    None => t.gates.pairs(row.clone()).fill(t.since[i], &mut out),
-                }
+                let gate = t.gates.gate(&t.cfg, i, t.since[i], t.disp[i]);
+                let row = t.gates.row(i);
+                let reach = row.clone().map(|k| t.gates.reach(&gate, k));
                 let targets = t.gates.target[row].iter().map(|&j| j as usize);
-                targets.zip(out).collect()
+                targets.zip(reach).collect()
             })
             .collect()
     }
