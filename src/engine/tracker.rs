@@ -429,6 +429,15 @@ pub struct Tracker {
     supported_len: usize,
     /// Whether the highest anchor is exactly 1 (after the renormalisation every step ends with).
     top_is_one: bool,
+    /// The anchors the blur visits (the first `near_len`), and whether each is among them:
+    /// every anchor but those known to raise nothing until they are re-anchored — dead ones
+    /// (`T(0, x) = 0` keeps them 0) and path-gated ones past their row's bound (`s_i` only
+    /// grows, and a displacement once unknown stays so, until the place is re-anchored).
+    near: Vec<u32>,
+    near_len: usize,
+    in_near: Vec<bool>,
+    /// Whether some displacement is known (so that a move without a heading has any to forget).
+    disp_known: bool,
     dist: PlaceDistribution,
     decision: Decision,
 }
@@ -596,6 +605,11 @@ impl Gates {
         }
     }
 
+    /// Whether every path gate of row `i` is 0 at distance `s` (and at every larger one).
+    fn beyond(&self, i: usize, s: f64) -> bool {
+        self.bound.get(i).is_some_and(|&b| s > b)
+    }
+
     /// The index range of row `i` (empty when out of range).
     fn row(&self, i: usize) -> std::ops::Range<usize> {
         match (self.start.get(i), self.start.get(i + 1)) {
@@ -618,7 +632,7 @@ impl Gates {
     /// from a larger `s` (a re-anchored place) is dropped. The result is exactly the window a
     /// search of the whole row finds.
     fn window(&self, i: usize, s: f64, cur: &mut Cursor) -> std::ops::Range<usize> {
-        if self.bound.get(i).is_some_and(|&b| s > b) {
+        if self.beyond(i, s) {
             return 0..0;
         }
         let row = self.row(i);
@@ -832,11 +846,27 @@ impl Tracker {
             supported: vec![0; n],
             supported_len: 0,
             top_is_one: true,
+            near: (0..n)
+                .map(|i| u32::try_from(i).unwrap_or(u32::MAX))
+                .collect(),
+            near_len: n,
+            in_near: vec![true; n],
+            disp_known: true,
             dist: PlaceDistribution::new(n),
             decision: Decision::Disoriented(Disoriented::NoPlaces),
         };
         t.reset();
         t
+    }
+
+    /// Puts every anchor back in the blur's list (after a reset, a restore or a refill).
+    fn all_near(&mut self) {
+        for (k, slot) in self.near.iter_mut().enumerate() {
+            *slot = u32::try_from(k).unwrap_or(u32::MAX);
+        }
+        self.near_len = self.near.len();
+        self.in_near.fill(true);
+        self.disp_known = self.disp.iter().any(Option::is_some);
     }
 
     /// Forgets everything: every place equally possible.
@@ -849,6 +879,7 @@ impl Tracker {
         self.low_len = 0;
         self.pred_full = true;
         self.top_is_one = true;
+        self.all_near();
         self.pending_evidence = None;
         self.dist = PlaceDistribution::new(self.n);
         self.decision = undecided(self.n);
@@ -904,6 +935,12 @@ impl Tracker {
             let slots = (self.anchor.get_mut(j), self.since.get_mut(j));
             if let (Some(m), Some(s), Some(d)) = (slots.0, slots.1, self.disp.get_mut(j)) {
                 (*m, *s, *d) = (pi, 0.0, Some([0.0; 2]));
+                self.disp_known = true;
+            }
+            if let (Some(false), Some(slot)) =
+                (self.in_near.get(j), self.near.get_mut(self.near_len))
+            {
+                (*slot, self.near_len, self.in_near[j]) = (j as u32, self.near_len + 1, true);
             }
         }
         if !changed && self.supported_len == 0 && self.top_is_one {
@@ -921,6 +958,7 @@ impl Tracker {
             self.anchor.fill(1.0);
             self.since.fill(0.0);
             self.disp.fill(Some([0.0; 2]));
+            self.all_near();
         }
         self.top_is_one = true;
     }
@@ -929,7 +967,7 @@ impl Tracker {
     /// their union when they do not overlap, see the module docs), fills `dist` and normalises
     /// it; returns the frame's highest support. `w` is the power the evidence is taken to.
     fn intersect(&mut self, evidence: &PlaceDistribution, b: f64, w: f64) -> f64 {
-        let (h, max_support, e_min) = self.intersect_terms(evidence, b, w);
+        let (h, max_support) = self.intersect_terms(evidence, b, w);
         self.dist.height = h;
         self.dist.inconsistency = 1.0 - h;
         if h < self.cfg.conflict {
@@ -938,7 +976,8 @@ impl Tracker {
             // The union reads `pred` itself, not above the floor, so the anchors the blur left
             // out count too — unless none of their terms (each at most `low_max`) can exceed
             // the evidence it is joined with (every `e_j ≥ e_min`): max selects exactly.
-            if !(self.low_max <= e_min) {
+            let e_min = || self.evid.iter().copied().fold(1.0, f64::min);
+            if self.low_len > 0 && self.low_max > e_min() {
                 let mut pred = std::mem::take(&mut self.pred);
                 self.carry_low(&mut pred);
                 self.pred = pred;
@@ -956,19 +995,18 @@ impl Tracker {
 
     /// `e_j` (the clamped possibility to the power `w`), `c_j`, support and exclusion of every
     /// place into `evid` and `dist`, the places whose support reaches `anchor_support` into
-    /// `supported`; returns the height of `c`, the highest support and the lowest `e_j`. One
+    /// `supported`; returns the height of `c` and the highest support. One
     /// pass over the columns when the evidence has the map's length (what the engine gives);
     /// other lengths read missing places as "no evidence".
-    fn intersect_terms(&mut self, evidence: &PlaceDistribution, b: f64, w: f64) -> (f64, f64, f64) {
+    fn intersect_terms(&mut self, evidence: &PlaceDistribution, b: f64, w: f64) -> (f64, f64) {
         let (t, anchor_support, n) = (self.cfg.tnorm, self.cfg.anchor_support, self.n);
-        let (mut h, mut max_support, mut e_min) = (0.0f64, 0.0f64, 1.0f64);
+        let (mut h, mut max_support) = (0.0f64, 0.0f64);
         let (supported, len) = (&mut self.supported, &mut self.supported_len);
         *len = 0;
         let mut place = |j: usize, v: f64, a: f64, p: f64, e_out: &mut f64| -> f64 {
             // `powf(1)` is exact: with evidence per frame nothing changes.
             let e = if w == 1.0 { v } else { v.powf(w) };
             *e_out = e;
-            e_min = e_min.min(e);
             max_support = max_support.max(a);
             if a >= anchor_support {
                 if let Some(slot) = supported.get_mut(*len) {
@@ -1005,7 +1043,7 @@ impl Tracker {
                     place(j, ev(pos, j, 1.0), a, self.pred[j], &mut self.evid[j]);
             }
         }
-        (h, max_support, e_min)
+        (h, max_support)
     }
 
     /// Blur: carries each anchor along the graph into `pred`, computing `R_ij` pair by pair
@@ -1025,15 +1063,21 @@ impl Tracker {
     fn blur(&mut self, b: f64) {
         self.pred.fill(0.0);
         (self.low_len, self.low_max, self.pred_full) = (0, 0.0, false);
-        for i in 0..self.n {
-            let a = self.anchor[i];
-            if a == 0.0 {
-                // `min(0, R) = 0` raises no `pred`, and the revision keeps `T(0, x) = 0` for
-                // every t-norm whatever `compat` is: a dead anchor (the product t-norm drives
-                // unsupported anchors to exactly 0 in a few hundred frames) costs nothing.
+        let mut k = 0;
+        while let Some(&i) = self.near.get(k).filter(|_| k < self.near_len) {
+            let i = i as usize;
+            let (a, s, disp) = (self.anchor[i], self.since[i], self.disp[i]);
+            // `min(0, R) = 0` raises no `pred`, and the revision keeps `T(0, x) = 0` for every
+            // t-norm whatever `compat` is: a dead anchor (the product t-norm drives unsupported
+            // anchors to exactly 0 in a few hundred frames) costs nothing; nor does a path gate
+            // past its bound. Both stay so until re-anchored: out of the list.
+            if a == 0.0 || (disp.is_none() && self.gates.beyond(i, s)) {
+                self.near_len -= 1;
+                self.near.swap(k, self.near_len);
+                self.in_near[i] = false;
                 continue;
             }
-            let (s, disp) = (self.since[i], self.disp[i]);
+            k += 1;
             let range = match disp {
                 Some(_) => self.gates.row(i),
                 None => self.gates.window(i, s, &mut self.cursor[i]),
@@ -1105,7 +1149,7 @@ impl Tracker {
     /// The hot places of the revision: `agree_j > floor` (none can exceed `floor ≥ 1`).
     fn find_hot(&mut self, floor: f64) {
         self.hot_len = 0;
-        if !(floor < 1.0) {
+        if floor >= 1.0 {
             return;
         }
         let agree = self.dist.possibility.iter().zip(&self.evid);
@@ -1191,12 +1235,20 @@ impl Tracker {
                         cs * odometry.forward - sn * odometry.left,
                         sn * odometry.forward + cs * odometry.left,
                     ];
-                    for d in self.disp.iter_mut().flatten() {
+                    let known = self
+                        .disp
+                        .iter_mut()
+                        .take(if self.disp_known { self.n } else { 0 });
+                    for d in known.flatten() {
                         d[0] = (d[0] + step[0]).clamp(-MAX_DISTANCE, MAX_DISTANCE);
                         d[1] = (d[1] + step[1]).clamp(-MAX_DISTANCE, MAX_DISTANCE);
                     }
                 }
-                None => self.disp.fill(None),
+                None if self.disp_known => {
+                    self.disp.fill(None);
+                    self.disp_known = false;
+                }
+                None => {}
             }
         }
         self.heading = next;
@@ -1262,6 +1314,7 @@ impl Tracker {
             .filter(|h| h.is_finite())
             .map(|h| h.to_radians().rem_euclid(std::f64::consts::TAU));
         self.top_is_one = self.anchor.iter().copied().fold(0.0, f64::max) == 1.0;
+        self.all_near();
         true
     }
 }
