@@ -68,7 +68,10 @@
 //! graph (`L'_ij ≤ horizon_m`); the others — and places with no path at all — get `R_ij = 0`.
 //! Construction runs one bounded search per place ([`crate::map::dijkstra`]); a step visits, per
 //! anchor, only the pairs its gate can reach (a path gate: a window of the row sorted by `L'`).
-//! Memory and time grow with `n` times the places within the horizon, not with `n²`.
+//! Memory and time grow with `n` times the places within the horizon, not with `n²`. Within
+//! that, a step reads only what can change its result: the blur carries the anchors at or above
+//! the bias floor, and the revision reads pairs only from the places that can raise an anchor
+//! (see `Tracker::blur` and `Tracker::revise`); `R_ij` is computed where it is read.
 //!
 //! `step` allocates nothing and cannot panic: all buffers are sized at construction, and
 //! evidence of the wrong length reads its missing places as "no evidence". Depends on `logic`
