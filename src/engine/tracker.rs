@@ -68,7 +68,10 @@
 //! graph (`L'_ij ≤ horizon_m`); the others — and places with no path at all — get `R_ij = 0`.
 //! Construction runs one bounded search per place ([`crate::map::dijkstra`]); a step visits, per
 //! anchor, only the pairs its gate can reach (a path gate: a window of the row sorted by `L'`).
-//! Memory and time grow with `n` times the places within the horizon, not with `n²`.
+//! Memory and time grow with `n` times the places within the horizon, not with `n²`. Within
+//! that, a step reads only what can change its result: the blur carries the anchors at or above
+//! the bias floor, and the revision reads pairs only from the places that can raise an anchor
+//! (see `Tracker::blur` and `Tracker::revise`); `R_ij` is computed where it is read.
 //!
 //! `step` allocates nothing and cannot panic: all buffers are sized at construction, and
 //! evidence of the wrong length reads its missing places as "no evidence". Depends on `logic`
@@ -397,11 +400,6 @@ pub struct Tracker {
     /// Heading of the previous frame, radians, once some frame carried one.
     heading: Option<f64>,
     pred: Vec<f64>,
-    /// `R_ij` at this step's distances, one per pair of [`Gates`]: filled by the blur for the
-    /// pairs of each row's window, reused by the revision (`since` does not change in between).
-    reach: Vec<f64>,
-    /// Per row, the pairs of `reach` filled this step (`R_ij = 0` outside; see the blur).
-    window: Vec<(usize, usize)>,
     /// Per row, where its path-gate window was last found ([`Gates::window`]).
     cursor: Vec<Cursor>,
     /// Distance moved whose evidence has not been taken yet, metres; `None` before the first
@@ -410,15 +408,39 @@ pub struct Tracker {
     pending_evidence: Option<f64>,
     /// `e_j`, the frame's clamped possibility, read once per step rather than once per pair.
     evid: Vec<f64>,
-    /// The anchors below the bias floor whose pairs the last blur filled but did not carry into
-    /// `pred` (the first `low_len`, each with its value at the blur); see [`Tracker::blur`].
+    /// The anchors below the bias floor with pairs in reach that the last blur did not carry
+    /// into `pred` (the first `low_len`, each as it was at the blur); see [`Tracker::blur`].
     /// Sized `n` at construction, so that a step never grows it.
-    low: Vec<(u32, f64)>,
+    low: Vec<Low>,
     low_len: usize,
+    /// The highest of those anchors (0 if none).
+    low_max: f64,
     /// Whether `pred` holds those anchors' terms too (after a conflict union, or a reset).
     pred_full: bool,
-    /// `min(π'_j, e_j)`: how far the frame agrees with place `j` (the revision's inner term).
-    agree: Vec<f64>,
+    /// The places whose agreement with the frame exceeds the revision's floor, with it (the
+    /// first `hot_len`; see [`Tracker::revise`]).
+    hot: Vec<(u32, f64)>,
+    hot_len: usize,
+    /// Per anchor, the highest term a hot place raised its `compat` to this step, then its
+    /// revised value; −1 when untouched (every entry between steps).
+    raised: Vec<f64>,
+    /// The anchors `raised` holds a value for (the first `touched_len`).
+    touched: Vec<u32>,
+    touched_len: usize,
+    /// The places whose support reaches `anchor_support` this frame (the first `supported_len`).
+    supported: Vec<u32>,
+    supported_len: usize,
+    /// Whether the highest anchor is exactly 1 (after the renormalisation every step ends with).
+    top_is_one: bool,
+    /// The anchors the blur visits (the first `near_len`), and whether each is among them:
+    /// every anchor but those known to raise nothing until they are re-anchored — dead ones
+    /// (`T(0, x) = 0` keeps them 0) and path-gated ones past their row's bound (`s_i` only
+    /// grows, and a displacement once unknown stays so, until the place is re-anchored).
+    near: Vec<u32>,
+    near_len: usize,
+    in_near: Vec<bool>,
+    /// Whether some displacement is known (so that a move without a heading has any to forget).
+    disp_known: bool,
     dist: PlaceDistribution,
     decision: Decision,
 }
@@ -437,7 +459,7 @@ fn extent_radius(e: Extent) -> f64 {
 /// distance `s` are one contiguous window ([`Gates::window`]). Pairs outside a row have
 /// `R_ij = 0`, as pairs with no path always had.
 ///
-/// One branch-free expression ([`GateRow::fill`]) gives exactly
+/// One branch-free expression ([`path_reach`]) gives exactly
 /// [`Similarity::degree`](crate::logic::Similarity::degree)`(s, L'_ij)` of the shape `core =
 /// 2(tolerance + tolerance_rel·L)`, `slope = slope + slope_rel·L`, height 1, bias 0: `half =
 /// tolerance + tolerance_rel·L` is `0.5 · core` exactly (scaling by 2 and ½ is exact), and a
@@ -462,6 +484,12 @@ struct Gates {
     shape: [f64; 4],
     /// Each place's extent as a rounded box, for the displacement gates.
     extents: Vec<([f64; 4], f64)>,
+    /// The rows transposed: column `j` is `col_start[j]..col_start[j + 1]` of `col`, each entry
+    /// `(i, k)` a pair `k` of row `i` whose target is `j`, so that the anchors a place can
+    /// raise are found from the place ([`Tracker::revise`]). Pair indices fit `u32`: a map
+    /// with more pairs could not hold its rows in memory.
+    col_start: Vec<usize>,
+    col: Vec<(u32, u32)>,
 }
 
 /// An extent as a box `[x_lo, x_hi, y_lo, y_hi]` with a rounding radius: a box is itself with
@@ -473,10 +501,11 @@ fn rounded_box(pose: (f64, f64), e: Extent) -> ([f64; 4], f64) {
     }
 }
 
-/// The pairs of one row that a path gate is evaluated on: `target[k]`, `length[k]`.
-struct GateRow<'a> {
-    length: &'a [f64],
-    shape: [f64; 4],
+/// How one anchor's pairs are gated in a step: by path length at its distance `s`, or by its
+/// displacement (its extent moved, and the gate at its distance, see [`displacement_gate`]).
+enum Gate {
+    Path(f64),
+    Displacement(([f64; 4], f64), Similarity),
 }
 
 impl Gates {
@@ -500,6 +529,8 @@ impl Gates {
                 .iter()
                 .map(|p| rounded_box((p.pose.0, p.pose.1), p.extent))
                 .collect(),
+            col_start: Vec::new(),
+            col: Vec::new(),
         };
         let mut search = BoundedDijkstra::new();
         let mut row: Vec<(f64, usize)> = Vec::new();
@@ -538,7 +569,48 @@ impl Gates {
             }
         }
         g.start.push(g.target.len());
+        g.transpose(n);
         g
+    }
+
+    /// Fills the columns from the rows (a counting sort by target; each column in row order).
+    fn transpose(&mut self, n: usize) {
+        let mut start = vec![0usize; n + 1];
+        for &j in &self.target {
+            if let Some(c) = start.get_mut(j as usize + 1) {
+                *c += 1;
+            }
+        }
+        for j in 0..n {
+            start[j + 1] += start[j];
+        }
+        let mut next = start.clone();
+        self.col = vec![(0, 0); start[n]];
+        for i in 0..n {
+            for k in self.row(i) {
+                let Some(at) = next.get_mut(self.target[k] as usize) else {
+                    continue;
+                };
+                if let Some(e) = self.col.get_mut(*at) {
+                    *e = (i as u32, u32::try_from(k).unwrap_or(u32::MAX));
+                }
+                *at += 1;
+            }
+        }
+        self.col_start = start;
+    }
+
+    /// The entries `(i, k)` of column `j` (empty when out of range).
+    fn column(&self, j: usize) -> &[(u32, u32)] {
+        match (self.col_start.get(j), self.col_start.get(j + 1)) {
+            (Some(&a), Some(&b)) => self.col.get(a..b).unwrap_or(&[]),
+            _ => &[],
+        }
+    }
+
+    /// Whether every path gate of row `i` is 0 at distance `s` (and at every larger one).
+    fn beyond(&self, i: usize, s: f64) -> bool {
+        self.bound.get(i).is_some_and(|&b| s > b)
     }
 
     /// The index range of row `i` (empty when out of range).
@@ -563,7 +635,7 @@ impl Gates {
     /// from a larger `s` (a re-anchored place) is dropped. The result is exactly the window a
     /// search of the whole row finds.
     fn window(&self, i: usize, s: f64, cur: &mut Cursor) -> std::ops::Range<usize> {
-        if self.bound.get(i).is_some_and(|&b| s > b) {
+        if self.beyond(i, s) {
             return 0..0;
         }
         let row = self.row(i);
@@ -590,38 +662,64 @@ impl Gates {
         row.start + cur.lo.at..row.start + hi.max(cur.lo.at)
     }
 
-    /// The path-gate view of the pairs in `range`.
-    fn pairs(&self, range: std::ops::Range<usize>) -> GateRow<'_> {
-        GateRow {
-            length: &self.length[range],
-            shape: self.shape,
+    /// The gate of anchor `i` at distance `s` with displacement `disp` (see [`Gate`]).
+    fn gate(&self, cfg: &TrackerConfig, i: usize, s: f64, disp: Option<[f64; 2]>) -> Gate {
+        match (disp, self.extents.get(i)) {
+            (Some(d), Some(&(a, ra))) => {
+                let moved = [a[0] + d[0], a[1] + d[0], a[2] + d[1], a[3] + d[1]];
+                Gate::Displacement((moved, ra), displacement_gate(cfg, s))
+            }
+            _ => Gate::Path(s),
         }
     }
 
-    /// `out[k] = R_ij` by displacement for the pairs `k` of `range` (row `i`): the extent of
-    /// anchor `i` moved by `d` against each extent `j`, through `shape` (the gate at the
-    /// anchor's distance, see [`displacement_gate`]).
-    fn fill_displacement(
-        &self,
-        i: usize,
-        range: std::ops::Range<usize>,
-        d: [f64; 2],
-        shape: &Similarity,
-        out: &mut [f64],
-    ) {
-        let Some(&(a, ra)) = self.extents.get(i) else {
-            return;
+    /// `R_ij` by displacement: the moved extent `(m, ra)` of the anchor against extent `j`.
+    #[inline]
+    fn displacement_reach(&self, (m, ra): &([f64; 4], f64), j: u32, shape: &Similarity) -> f64 {
+        let Some((b, rb)) = self.extents.get(j as usize) else {
+            return 0.0;
         };
-        let moved = [a[0] + d[0], a[1] + d[0], a[2] + d[1], a[3] + d[1]];
-        for (o, &j) in out.iter_mut().zip(&self.target[range]) {
-            let Some((b, rb)) = self.extents.get(j as usize) else {
-                *o = 0.0;
-                continue;
-            };
-            let gx = (b[0] - moved[1]).max(moved[0] - b[1]).max(0.0);
-            let gy = (b[2] - moved[3]).max(moved[2] - b[3]).max(0.0);
-            let gap = (gx.hypot(gy) - ra - rb).max(0.0);
-            *o = shape.degree(gap, 0.0);
+        let gx = (b[0] - m[1]).max(m[0] - b[1]).max(0.0);
+        let gy = (b[2] - m[3]).max(m[2] - b[3]).max(0.0);
+        let gap = (gx.hypot(gy) - ra - rb).max(0.0);
+        shape.degree(gap, 0.0)
+    }
+
+    /// `R_ij` of pair `k` through `gate` (0 for a pair out of range).
+    fn reach(&self, gate: &Gate, k: usize) -> f64 {
+        match gate {
+            Gate::Path(s) => self
+                .length
+                .get(k)
+                .map_or(0.0, |&l| path_reach(self.shape, *s, l)),
+            Gate::Displacement(moved, shape) => self
+                .target
+                .get(k)
+                .map_or(0.0, |&j| self.displacement_reach(moved, j, shape)),
+        }
+    }
+
+    /// `pred_j = max(pred_j, min(a, R_ij))` over the pairs `range` of an anchor of value `a`
+    /// gated by `gate`. `R_ij` is computed here, pair by pair, rather than stored: each pair is
+    /// read once per step, by the anchors that can raise `pred`.
+    fn carry(&self, pred: &mut [f64], gate: &Gate, range: std::ops::Range<usize>, a: f64) {
+        let targets = self.target.get(range.clone()).unwrap_or(&[]);
+        match gate {
+            Gate::Path(s) => {
+                let lengths = self.length.get(range).unwrap_or(&[]);
+                for (&j, &l) in targets.iter().zip(lengths) {
+                    if let Some(p) = pred.get_mut(j as usize) {
+                        *p = p.max(a.min(path_reach(self.shape, *s, l)));
+                    }
+                }
+            }
+            Gate::Displacement(moved, shape) => {
+                for &j in targets {
+                    if let Some(p) = pred.get_mut(j as usize) {
+                        *p = p.max(a.min(self.displacement_reach(moved, j, shape)));
+                    }
+                }
+            }
         }
     }
 }
@@ -654,6 +752,18 @@ impl Default for End {
     }
 }
 
+/// An anchor below the bias floor as the blur found it: its place, value, gate and the pairs
+/// its gate can reach (see [`Tracker::carry_low`]).
+#[derive(Debug, Clone, Copy, Default)]
+struct Low {
+    i: u32,
+    a: f64,
+    s: f64,
+    disp: Option<[f64; 2]>,
+    lo: usize,
+    hi: usize,
+}
+
 /// Moves `end` to the first index of `xs` where `holds` fails, `holds` being true on a prefix of
 /// `xs` that contains `..end.at`: a few steps forward, then a binary search of the rest — the
 /// index [`slice::partition_point`] finds on the whole of `xs`.
@@ -680,16 +790,6 @@ fn advance(xs: &[f64], end: &mut End, holds: impl Fn(f64) -> bool) {
     end.next = xs.get(k).copied().unwrap_or(f64::INFINITY);
 }
 
-/// `pred_j = max(pred_j, min(a, R_ij))` for the pairs `targets`, `reach` of one anchor of value
-/// `a`.
-fn carry(pred: &mut [f64], targets: &[u32], reach: &[f64], a: f64) {
-    for (&j, &r) in targets.iter().zip(reach) {
-        if let Some(p) = pred.get_mut(j as usize) {
-            *p = p.max(a.min(r));
-        }
-    }
-}
-
 /// The displacement gate `s` metres after its anchor: full match within `tolerance_d +
 /// tolerance_d_rel·s` of the target extent, falling to 0 over `slope_d + slope_d_rel·s`.
 pub fn displacement_gate(cfg: &TrackerConfig, s: f64) -> Similarity {
@@ -702,19 +802,20 @@ pub fn displacement_gate(cfg: &TrackerConfig, s: f64) -> Similarity {
     )
 }
 
-impl GateRow<'_> {
-    /// `out[k] = R_ij` at distance `s` from anchor `i`, for the pairs of this window.
-    #[inline]
-    fn fill(&self, s: f64, out: &mut [f64]) {
-        let [tol, tol_rel, slope0, slope_rel] = self.shape;
-        for (o, &l) in out.iter_mut().zip(self.length) {
-            let half = tol + tol_rel * l;
-            let slope = slope0 + slope_rel * l;
-            let slope = if slope > 0.0 { slope } else { 0.0 };
-            let d = (s - l).abs();
-            let f = (1.0 - (d - half) / slope).max(0.0);
-            *o = if d <= half { 1.0 } else { f };
-        }
+/// `R_ij` of a path gate of `shape` (`tolerance`, `tolerance_rel`, `slope`, `slope_rel`) at
+/// distance `s` for a pair of length `l`: the branch-free trapezoid of [`Gates`].
+#[inline]
+fn path_reach(shape: [f64; 4], s: f64, l: f64) -> f64 {
+    let [tol, tol_rel, slope0, slope_rel] = shape;
+    let half = tol + tol_rel * l;
+    let slope = slope0 + slope_rel * l;
+    let slope = if slope > 0.0 { slope } else { 0.0 };
+    let d = (s - l).abs();
+    let f = (1.0 - (d - half) / slope).max(0.0);
+    if d <= half {
+        1.0
+    } else {
+        f
     }
 }
 
@@ -723,7 +824,6 @@ impl Tracker {
     pub fn new(map: &Map, params: DecisionParams, cfg: TrackerConfig) -> Tracker {
         let n = map.places().len();
         let gates = Gates::new(map, &cfg);
-        let pairs = gates.target.len();
         let mut t = Tracker {
             cfg,
             params,
@@ -734,20 +834,42 @@ impl Tracker {
             disp: vec![Some([0.0; 2]); n],
             heading: None,
             pred: vec![1.0; n],
-            reach: vec![0.0; pairs],
-            window: vec![(0, 0); n],
             cursor: vec![Cursor::default(); n],
             pending_evidence: None,
             evid: vec![0.0; n],
-            low: vec![(0, 0.0); n],
+            low: vec![Low::default(); n],
             low_len: 0,
+            low_max: 0.0,
             pred_full: true,
-            agree: vec![0.0; n],
+            hot: vec![(0, 0.0); n],
+            hot_len: 0,
+            raised: vec![-1.0; n],
+            touched: vec![0; n],
+            touched_len: 0,
+            supported: vec![0; n],
+            supported_len: 0,
+            top_is_one: true,
+            near: (0..n)
+                .map(|i| u32::try_from(i).unwrap_or(u32::MAX))
+                .collect(),
+            near_len: n,
+            in_near: vec![true; n],
+            disp_known: true,
             dist: PlaceDistribution::new(n),
             decision: Decision::Disoriented(Disoriented::NoPlaces),
         };
         t.reset();
         t
+    }
+
+    /// Puts every anchor back in the blur's list (after a reset, a restore or a refill).
+    fn all_near(&mut self) {
+        for (k, slot) in self.near.iter_mut().enumerate() {
+            *slot = u32::try_from(k).unwrap_or(u32::MAX);
+        }
+        self.near_len = self.near.len();
+        self.in_near.fill(true);
+        self.disp_known = self.disp.iter().any(Option::is_some);
     }
 
     /// Forgets everything: every place equally possible.
@@ -759,6 +881,8 @@ impl Tracker {
         self.pred.fill(1.0);
         self.low_len = 0;
         self.pred_full = true;
+        self.top_is_one = true;
+        self.all_near();
         self.pending_evidence = None;
         self.dist = PlaceDistribution::new(self.n);
         self.decision = undecided(self.n);
@@ -779,7 +903,6 @@ impl Tracker {
         odometry: Odometry,
         heading: Option<f64>,
     ) -> Decision {
-        let n = self.n;
         let b = clamp_degree(self.cfg.bias);
         let ds = odometry.distance();
         let ds = if ds.is_finite() { ds } else { 0.0 };
@@ -787,71 +910,85 @@ impl Tracker {
             *s = (*s + ds).min(MAX_DISTANCE);
         }
         self.carry_displacement(odometry, ds, heading);
-        let ev =
-            |v: &[f64], j: usize, missing: f64| clamp_degree(v.get(j).copied().unwrap_or(missing));
         let w = self.evidence_weight(ds);
-        for (j, e) in self.evid.iter_mut().enumerate() {
-            let v = ev(&evidence.possibility, j, 1.0);
-            // `powf(1)` is exact: with evidence per frame nothing changes.
-            *e = if w == 1.0 { v } else { v.powf(w) };
-        }
 
         self.blur(b);
 
-        let max_support = self.intersect(evidence, b);
+        let max_support = self.intersect(evidence, b, w);
 
         // Revise the anchors: keep those the frame agrees with, re-anchor supported places.
-        let between = 1.0 - max_support;
-        for (g, (&p, &e)) in self
-            .agree
-            .iter_mut()
-            .zip(self.dist.possibility.iter().zip(&self.evid))
-        {
-            *g = p.min(e);
-        }
-        self.revise(between, b);
-        for j in 0..n {
-            if ev(&evidence.support, j, 0.0) >= self.cfg.anchor_support {
-                self.anchor[j] = self.dist.possibility[j];
-                self.since[j] = 0.0;
-                self.disp[j] = Some([0.0; 2]);
+        let changed = self.revise(1.0 - max_support, b);
+        self.reanchor(changed);
+
+        self.decision = decide(&self.dist, self.params);
+        self.decision = unless_unsupported(self.decision, max_support, self.cfg.min_support, |k| {
+            clamp_degree(evidence.support.get(k).copied().unwrap_or(0.0))
+        });
+        self.decision
+    }
+
+    /// Re-anchors the supported places (`m_j = π'_j`, `s_j = 0`) and renormalises the anchors
+    /// to height 1. When neither the revision (`changed`) nor a re-anchoring changed an anchor
+    /// and the highest is already exactly 1, the renormalisation would divide by 1, which
+    /// changes nothing: it is skipped (most frames of a walk, the ones with no support).
+    fn reanchor(&mut self, changed: bool) {
+        for &j in self.supported.iter().take(self.supported_len) {
+            let j = j as usize;
+            let pi = self.dist.possibility.get(j).copied().unwrap_or(0.0);
+            let slots = (self.anchor.get_mut(j), self.since.get_mut(j));
+            if let (Some(m), Some(s), Some(d)) = (slots.0, slots.1, self.disp.get_mut(j)) {
+                (*m, *s, *d) = (pi, 0.0, Some([0.0; 2]));
+                self.disp_known = true;
             }
+            if let (Some(false), Some(slot)) =
+                (self.in_near.get(j), self.near.get_mut(self.near_len))
+            {
+                (*slot, self.near_len, self.in_near[j]) = (j as u32, self.near_len + 1, true);
+            }
+        }
+        if !changed && self.supported_len == 0 && self.top_is_one {
+            return;
         }
         let top = self.anchor.iter().copied().fold(0.0, f64::max);
         if top > 0.0 {
-            for m in &mut self.anchor {
-                *m /= top;
+            // `m / 1 = m`; otherwise the highest becomes `top / top = 1` exactly.
+            if top != 1.0 {
+                for m in &mut self.anchor {
+                    *m /= top;
+                }
             }
         } else {
             self.anchor.fill(1.0);
             self.since.fill(0.0);
             self.disp.fill(Some([0.0; 2]));
+            self.all_near();
         }
-
-        self.decision = decide(&self.dist, self.params);
-        self.decision = unless_unsupported(self.decision, max_support, self.cfg.min_support, |k| {
-            ev(&evidence.support, k, 0.0)
-        });
-        self.decision
+        self.top_is_one = true;
     }
 
     /// Intersects the carried belief with the evidence (`c_j = T(max(pred_j, b), e_j)`, or
     /// their union when they do not overlap, see the module docs), fills `dist` and normalises
-    /// it; returns the frame's highest support.
-    fn intersect(&mut self, evidence: &PlaceDistribution, b: f64) -> f64 {
-        let (h, max_support) = self.intersect_terms(evidence, b);
+    /// it; returns the frame's highest support. `w` is the power the evidence is taken to.
+    fn intersect(&mut self, evidence: &PlaceDistribution, b: f64, w: f64) -> f64 {
+        let (h, max_support) = self.intersect_terms(evidence, b, w);
         self.dist.height = h;
         self.dist.inconsistency = 1.0 - h;
         if h < self.cfg.conflict {
             // Belief and evidence do not overlap: keep both (their union) rather than the
             // little their intersection leaves, so that the next frames can tell which was right.
-            // The union reads `pred` itself, not above the floor: it needs every anchor's terms.
-            let mut pred = std::mem::take(&mut self.pred);
-            self.carry_low(&mut pred);
-            self.pred = pred;
-            self.pred_full = true;
-            for j in 0..self.n {
-                self.dist.possibility_raw[j] = self.pred[j].max(self.evid[j]);
+            // The union reads `pred` itself, not above the floor, so the anchors the blur left
+            // out count too — unless none of their terms (each at most `low_max`) can exceed
+            // the evidence it is joined with (every `e_j ≥ e_min`): max selects exactly.
+            let e_min = || self.evid.iter().copied().fold(1.0, f64::min);
+            if self.low_len > 0 && self.low_max > e_min() {
+                let mut pred = std::mem::take(&mut self.pred);
+                self.carry_low(&mut pred);
+                self.pred = pred;
+                self.pred_full = true;
+            }
+            let raw = self.dist.possibility_raw.iter_mut();
+            for (c, (&p, &e)) in raw.zip(self.pred.iter().zip(&self.evid)) {
+                *c = p.max(e);
             }
         }
         // In the union case `possibility_raw` now holds the union, whose height normalises.
@@ -859,129 +996,213 @@ impl Tracker {
         max_support
     }
 
-    /// `c_j`, support and exclusion of every place into `dist`; returns the height of `c` and
-    /// the highest support. Evidence of the map's length (what the engine gives) is read in one
-    /// pass over the columns; other lengths read missing places as "no evidence".
-    fn intersect_terms(&mut self, evidence: &PlaceDistribution, b: f64) -> (f64, f64) {
-        let t = self.cfg.tnorm;
+    /// `e_j` (the clamped possibility to the power `w`), `c_j`, support and exclusion of every
+    /// place into `evid` and `dist`, the places whose support reaches `anchor_support` into
+    /// `supported`; returns the height of `c` and the highest support. One
+    /// pass over the columns when the evidence has the map's length (what the engine gives);
+    /// other lengths read missing places as "no evidence".
+    fn intersect_terms(&mut self, evidence: &PlaceDistribution, b: f64, w: f64) -> (f64, f64) {
+        let (t, anchor_support, n) = (self.cfg.tnorm, self.cfg.anchor_support, self.n);
         let (mut h, mut max_support) = (0.0f64, 0.0f64);
-        let n = self.n;
-        let (sup, exc) = (&evidence.support, &evidence.exclusion);
-        let d = &mut self.dist;
-        if sup.len() == n && exc.len() == n && d.support.len() == n {
-            let out = d.support.iter_mut().zip(&mut d.exclusion);
-            let out = out.zip(&mut d.possibility_raw);
-            let input = sup.iter().zip(exc).zip(self.pred.iter().zip(&self.evid));
-            for (((s, x), raw), ((&a, &z), (&p, &e))) in out.zip(input) {
-                let a = clamp_degree(a);
-                max_support = max_support.max(a);
-                let c = t.apply(p.max(b), e);
-                (*s, *x, *raw) = (a, clamp_degree(z), c);
-                h = h.max(c);
-            }
-            return (h, max_support);
-        }
-        let ev = |v: &[f64], j: usize| clamp_degree(v.get(j).copied().unwrap_or(0.0));
-        for j in 0..n {
-            let a = ev(sup, j);
+        let (supported, len) = (&mut self.supported, &mut self.supported_len);
+        *len = 0;
+        let mut place = |j: usize, v: f64, a: f64, p: f64, e_out: &mut f64| -> f64 {
+            // `powf(1)` is exact: with evidence per frame nothing changes.
+            let e = if w == 1.0 { v } else { v.powf(w) };
+            *e_out = e;
             max_support = max_support.max(a);
-            let c = t.apply(self.pred[j].max(b), self.evid[j]);
-            d.support[j] = a;
-            d.exclusion[j] = ev(exc, j);
-            d.possibility_raw[j] = c;
+            if a >= anchor_support {
+                if let Some(slot) = supported.get_mut(*len) {
+                    (*slot, *len) = (j as u32, *len + 1);
+                }
+            }
+            let c = t.apply(p.max(b), e);
             h = h.max(c);
+            c
+        };
+        let (pos, sup, exc) = (
+            &evidence.possibility,
+            &evidence.support,
+            &evidence.exclusion,
+        );
+        let d = &mut self.dist;
+        if pos.len() == n && sup.len() == n && exc.len() == n && d.support.len() == n {
+            let out = d.support.iter_mut().zip(&mut d.exclusion);
+            let out = out.zip(d.possibility_raw.iter_mut().zip(&mut self.evid));
+            let input = pos.iter().zip(sup).zip(exc.iter().zip(&self.pred));
+            for (j, (((s, x), (raw, e)), ((&v, &a), (&z, &p)))) in out.zip(input).enumerate() {
+                let a = clamp_degree(a);
+                (*s, *x) = (a, clamp_degree(z));
+                *raw = place(j, clamp_degree(v), a, p, e);
+            }
+        } else {
+            let ev =
+                |v: &[f64], j: usize, miss: f64| clamp_degree(v.get(j).copied().unwrap_or(miss));
+            for j in 0..n {
+                let a = ev(sup, j, 0.0);
+                d.support[j] = a;
+                d.exclusion[j] = ev(exc, j, 0.0);
+                d.possibility_raw[j] =
+                    place(j, ev(pos, j, 1.0), a, self.pred[j], &mut self.evid[j]);
+            }
         }
         (h, max_support)
     }
 
-    /// Blur: carries each anchor along the graph into `pred`, filling `reach` with every `R_ij`
-    /// that can be non-zero (the revision needs them too). Only the pairs within the horizon
-    /// are stored, and of those a path gate fills only its row's window ([`Gates::window`]): an
-    /// anchor farther than every path from it (common, as `s_i` grows until the place is seen
-    /// again) has an empty window and raises no `pred` and no `compat`. Max and min select
-    /// exactly, so neither the order of the terms nor the pairs left out (all `R_ij = 0`, and
-    /// `min(m_i, 0) = 0`) change `pred`.
+    /// Blur: carries each anchor along the graph into `pred`, computing `R_ij` pair by pair
+    /// (see [`Gates::carry`]). Only the pairs within the horizon are stored, and of those a path
+    /// gate visits only its row's window ([`Gates::window`]): an anchor farther than every path
+    /// from it (common, as `s_i` grows until the place is seen again) has an empty window and
+    /// raises no `pred`. Max and min select exactly, so neither the order of the terms nor the
+    /// pairs left out (all `R_ij = 0`, and `min(m_i, 0) = 0`) change `pred`.
     ///
-    /// An anchor below the bias floor (`m_i < b`) fills its pairs but is not carried: its terms
-    /// `min(m_i, R_ij) < b` cannot change `max(pred_j, b)`, the only form in which the
-    /// intersection reads `pred` (for every t-norm). Only the conflict union reads `pred_j`
-    /// itself, and [`Tracker::predicted`] shows it: both add those terms from the list kept here
-    /// ([`Tracker::carry_low`]), the windows and `reach` being unchanged until the next blur. On
-    /// a large map most anchors are below the floor (the product t-norm shrinks the unsupported
-    /// ones every frame), so the blur carries a handful of rows instead of every live one.
+    /// An anchor below the bias floor (`m_i < b`) is not carried: its terms `min(m_i, R_ij) < b`
+    /// cannot change `max(pred_j, b)`, the only form in which the intersection reads `pred`
+    /// (for every t-norm). Only the conflict union reads `pred_j` itself, and
+    /// [`Tracker::predicted`] shows it: both add those terms from the list kept here
+    /// ([`Tracker::carry_low`]). On a large map most anchors are below the floor (the product
+    /// t-norm shrinks the unsupported ones every frame), so the blur carries a handful of rows
+    /// instead of every live one.
     fn blur(&mut self, b: f64) {
         self.pred.fill(0.0);
-        self.low_len = 0;
-        self.pred_full = false;
-        for i in 0..self.n {
-            let (a, s) = (self.anchor[i], self.since[i]);
-            if a == 0.0 {
-                // `min(0, R) = 0` raises no `pred`, and the revision keeps `T(0, x) = 0` for
-                // every t-norm whatever `compat` is: a dead anchor (the product t-norm drives
-                // unsupported anchors to exactly 0 in a few hundred frames) costs nothing.
-                self.window[i] = (0, 0);
+        (self.low_len, self.low_max, self.pred_full) = (0, 0.0, false);
+        let mut k = 0;
+        while let Some(&i) = self.near.get(k).filter(|_| k < self.near_len) {
+            let i = i as usize;
+            let (a, s, disp) = (self.anchor[i], self.since[i], self.disp[i]);
+            // `min(0, R) = 0` raises no `pred`, and the revision keeps `T(0, x) = 0` for every
+            // t-norm whatever `compat` is: a dead anchor (the product t-norm drives unsupported
+            // anchors to exactly 0 in a few hundred frames) costs nothing; nor does a path gate
+            // past its bound. Both stay so until re-anchored: out of the list.
+            if a == 0.0 || (disp.is_none() && self.gates.beyond(i, s)) {
+                self.near_len -= 1;
+                self.near.swap(k, self.near_len);
+                self.in_near[i] = false;
                 continue;
             }
-            let range = match self.disp[i] {
-                Some(d) => {
-                    let range = self.gates.row(i);
-                    let shape = displacement_gate(&self.cfg, s);
-                    let out = &mut self.reach[range.clone()];
-                    self.gates
-                        .fill_displacement(i, range.clone(), d, &shape, out);
-                    range
-                }
-                None => {
-                    let range = self.gates.window(i, s, &mut self.cursor[i]);
-                    let out = &mut self.reach[range.clone()];
-                    self.gates.pairs(range.clone()).fill(s, out);
-                    range
-                }
+            k += 1;
+            let range = match disp {
+                Some(_) => self.gates.row(i),
+                None => self.gates.window(i, s, &mut self.cursor[i]),
             };
-            self.window[i] = (range.start, range.end);
-            if a < b && !range.is_empty() {
+            if range.is_empty() {
+                continue;
+            }
+            if a < b {
                 if let Some(slot) = self.low.get_mut(self.low_len) {
-                    *slot = (i as u32, a);
+                    let (i, lo, hi) = (i as u32, range.start, range.end);
+                    *slot = Low {
+                        i,
+                        a,
+                        s,
+                        disp,
+                        lo,
+                        hi,
+                    };
                     self.low_len += 1;
+                    self.low_max = self.low_max.max(a);
                     continue;
                 }
             }
-            let (targets, reach) = (&self.gates.target[range.clone()], &self.reach[range]);
-            carry(&mut self.pred, targets, reach, a);
+            let gate = self.gates.gate(&self.cfg, i, s, disp);
+            self.gates.carry(&mut self.pred, &gate, range, a);
         }
     }
 
-    /// Adds to `pred` the terms of the anchors the last blur left out (see [`Tracker::blur`]).
+    /// Adds to `pred` the terms of the anchors the last blur left out (see [`Tracker::blur`]),
+    /// each as it was at the blur.
     fn carry_low(&self, pred: &mut [f64]) {
-        for &(i, a) in self.low.iter().take(self.low_len) {
-            let (lo, hi) = self.window.get(i as usize).copied().unwrap_or((0, 0));
-            carry(pred, &self.gates.target[lo..hi], &self.reach[lo..hi], a);
+        for l in self.low.iter().take(self.low_len) {
+            let gate = self.gates.gate(&self.cfg, l.i as usize, l.s, l.disp);
+            self.gates.carry(pred, &gate, l.lo..l.hi, l.a);
         }
     }
 
     /// Revises each anchor by how well the frame agrees with it: `m_i ← T(m_i, max(compat_i,
-    /// b))`, `compat_i = max(between, max_j min(R_ij, agree_j))` over the pairs the blur filled
-    /// (the others have `R_ij = 0`, which cannot raise a maximum that starts at `between ≥ 0`).
-    /// With the min t-norm an anchor below the floor (`m_i < b ≤ max(compat_i, b)`) keeps its
-    /// value whatever `compat_i` is, so its pairs are not read. In a frame with no support at
-    /// all (`between = 1`) no pair is read either: each term `min(R_ij, agree_j) ≤ agree_j ≤ 1`
-    /// (`agree` is never NaN: `e_j` is clamped), so `compat_i` stays exactly 1.
-    fn revise(&mut self, between: f64, b: f64) {
+    /// b))`, `compat_i = max(between, max_j min(R_ij, agree_j))`, `agree_j = min(π'_j, e_j)`;
+    /// returns whether any anchor may have changed.
+    ///
+    /// Only what can matter is read. A term raises `max(compat_i, b)` above `floor = max(between,
+    /// b)` only if it exceeds `floor`, hence only through a place with `agree_j > floor` — a
+    /// *hot* place, a handful per frame, none in a frame with no support at all (`floor = 1`).
+    /// So the pairs are read from the hot places' columns ([`Gates::column`]), and every other
+    /// anchor gets `T(m_i, floor)` — which is `m_i` itself, and skipped, when `floor = 1` with
+    /// the min (`m_i ≤ 1`) or product t-norm. Max selects exactly, so the order of the terms
+    /// does not matter, and a dead anchor stays `T(0, x) = 0` whatever its terms.
+    fn revise(&mut self, between: f64, b: f64) -> bool {
         let t = self.cfg.tnorm;
-        let keeps_low = t == TNorm::Min;
-        let no_pairs = between >= 1.0;
-        for (m, &(lo, hi)) in self.anchor.iter_mut().zip(&self.window) {
-            if keeps_low && *m < b {
-                continue;
+        let floor = between.max(b);
+        self.find_hot(floor);
+        self.raise(floor);
+        let unchanged = floor == 1.0 && t != TNorm::Lukasiewicz;
+        if !unchanged {
+            for m in &mut self.anchor {
+                *m = t.apply(*m, floor);
             }
-            let mut compat = between;
-            let (lo, hi) = if no_pairs { (lo, lo) } else { (lo, hi) };
-            let pairs = self.gates.target[lo..hi].iter().zip(&self.reach[lo..hi]);
-            for (&j, &r) in pairs {
-                let g = self.agree.get(j as usize).copied().unwrap_or(0.0);
-                compat = compat.max(r.min(g));
+        }
+        for &i in self.touched.iter().take(self.touched_len) {
+            let i = i as usize;
+            if let (Some(m), Some(r)) = (self.anchor.get_mut(i), self.raised.get_mut(i)) {
+                (*m, *r) = (*r, -1.0);
             }
-            *m = t.apply(*m, compat.max(b));
+        }
+        !unchanged || self.touched_len > 0
+    }
+
+    /// The hot places of the revision: `agree_j > floor` (none can exceed `floor ≥ 1`).
+    fn find_hot(&mut self, floor: f64) {
+        self.hot_len = 0;
+        if floor >= 1.0 {
+            return;
+        }
+        let agree = self.dist.possibility.iter().zip(&self.evid);
+        for (j, (&p, &e)) in agree.enumerate() {
+            let g = p.min(e);
+            if g > floor {
+                if let Some(slot) = self.hot.get_mut(self.hot_len) {
+                    (*slot, self.hot_len) = ((j as u32, g), self.hot_len + 1);
+                }
+            }
+        }
+    }
+
+    /// For each anchor a hot place raises above `floor`, its revised value `T(m_i, max_j
+    /// min(R_ij, agree_j))` into `raised` (see [`Tracker::revise`]), read from the columns.
+    fn raise(&mut self, floor: f64) {
+        self.touched_len = 0;
+        for &(j, g) in self.hot.iter().take(self.hot_len) {
+            for &(i, k) in self.gates.column(j as usize) {
+                let i = i as usize;
+                let (Some(&m), Some(&s), Some(&disp)) =
+                    (self.anchor.get(i), self.since.get(i), self.disp.get(i))
+                else {
+                    continue;
+                };
+                if m == 0.0 {
+                    continue;
+                }
+                let gate = self.gates.gate(&self.cfg, i, s, disp);
+                let term = self.gates.reach(&gate, k as usize).min(g);
+                let Some(r) = self.raised.get_mut(i) else {
+                    continue;
+                };
+                if term > floor {
+                    if *r < 0.0 {
+                        if let Some(slot) = self.touched.get_mut(self.touched_len) {
+                            (*slot, self.touched_len) = (i as u32, self.touched_len + 1);
+                        }
+                    }
+                    *r = r.max(term);
+                }
+            }
+        }
+        let t = self.cfg.tnorm;
+        for &i in self.touched.iter().take(self.touched_len) {
+            if let (Some(r), Some(&m)) =
+                (self.raised.get_mut(i as usize), self.anchor.get(i as usize))
+            {
+                *r = t.apply(m, *r);
+            }
         }
     }
 
@@ -1017,12 +1238,20 @@ impl Tracker {
                         cs * odometry.forward - sn * odometry.left,
                         sn * odometry.forward + cs * odometry.left,
                     ];
-                    for d in self.disp.iter_mut().flatten() {
+                    let known = self
+                        .disp
+                        .iter_mut()
+                        .take(if self.disp_known { self.n } else { 0 });
+                    for d in known.flatten() {
                         d[0] = (d[0] + step[0]).clamp(-MAX_DISTANCE, MAX_DISTANCE);
                         d[1] = (d[1] + step[1]).clamp(-MAX_DISTANCE, MAX_DISTANCE);
                     }
                 }
-                None => self.disp.fill(None),
+                None if self.disp_known => {
+                    self.disp.fill(None);
+                    self.disp_known = false;
+                }
+                None => {}
             }
         }
         self.heading = next;
@@ -1087,6 +1316,8 @@ impl Tracker {
             .heading
             .filter(|h| h.is_finite())
             .map(|h| h.to_radians().rem_euclid(std::f64::consts::TAU));
+        self.top_is_one = self.anchor.iter().copied().fold(0.0, f64::max) == 1.0;
+        self.all_near();
         true
     }
 }
@@ -1173,6 +1404,263 @@ mod tests {
                 moved += usize::from(!fresh.is_empty());
             }
             assert!(moved > 100, "row {i}: the windows were mostly empty");
+        }
+    }
+
+    /// `R_ij` of every pair of every live anchor's whole row (no window, no bound): `(j, R_ij)`.
+    fn plain_reach(t: &Tracker) -> Vec<Vec<(usize, f64)>> {
+        (0..t.n)
+            .map(|i| {
+                if t.anchor[i] == 0.0 {
+                    return Vec::new();
+                }
+                let gate = t.gates.gate(&t.cfg, i, t.since[i], t.disp[i]);
+                let row = t.gates.row(i);
+                let reach = row.clone().map(|k| t.gates.reach(&gate, k));
+                let targets = t.gates.target[row].iter().map(|&j| j as usize);
+                targets.zip(reach).collect()
+            })
+            .collect()
+    }
+
+    /// The displacements carried as the module docs say (see `carry_displacement`).
+    fn plain_displacement(t: &mut Tracker, odo: Odometry, ds: f64, heading: Option<f64>) {
+        let now = heading
+            .filter(|h| t.cfg.use_heading && h.is_finite())
+            .map(f64::to_radians);
+        let (start, next) = carry_heading(t.heading, now, odo.turn);
+        if ds > 0.0 {
+            for d in &mut t.disp {
+                *d = match (start, *d) {
+                    (Some(th), Some(d)) => {
+                        let (sn, cs) = th.sin_cos();
+                        let x = cs * odo.forward - sn * odo.left;
+                        let y = sn * odo.forward + cs * odo.left;
+                        Some([
+                            (d[0] + x).clamp(-MAX_DISTANCE, MAX_DISTANCE),
+                            (d[1] + y).clamp(-MAX_DISTANCE, MAX_DISTANCE),
+                        ])
+                    }
+                    _ => None,
+                };
+            }
+        }
+        t.heading = next;
+    }
+
+    /// One step as the module docs state it, place by place and pair by pair: every anchor
+    /// carried over its whole row, every place intersected, every anchor revised against every
+    /// pair. The reference the tracker's shortcuts are compared with, bit for bit. Returns the
+    /// decision and the whole `pred`.
+    fn plain_step(
+        t: &mut Tracker,
+        ev: &PlaceDistribution,
+        odo: Odometry,
+        heading: Option<f64>,
+    ) -> (Decision, Vec<f64>) {
+        let (n, b, tn) = (t.n, clamp_degree(t.cfg.bias), t.cfg.tnorm);
+        let ds = Some(odo.distance())
+            .filter(|d| d.is_finite())
+            .unwrap_or(0.0);
+        for s in &mut t.since {
+            *s = (*s + ds).min(MAX_DISTANCE);
+        }
+        plain_displacement(t, odo, ds, heading);
+        let w = t.evidence_weight(ds);
+        let get = |v: &[f64], j: usize, miss: f64| clamp_degree(v.get(j).copied().unwrap_or(miss));
+        let e: Vec<f64> = (0..n)
+            .map(|j| get(&ev.possibility, j, 1.0))
+            .map(|v| if w == 1.0 { v } else { v.powf(w) })
+            .collect();
+        let reach = plain_reach(t);
+        let mut pred = vec![0.0f64; n];
+        for (i, row) in reach.iter().enumerate() {
+            for &(j, r) in row {
+                pred[j] = pred[j].max(t.anchor[i].min(r));
+            }
+        }
+        let (mut h, mut max_support) = (0.0f64, 0.0f64);
+        for j in 0..n {
+            let a = get(&ev.support, j, 0.0);
+            max_support = max_support.max(a);
+            let c = tn.apply(pred[j].max(b), e[j]);
+            t.dist.support[j] = a;
+            t.dist.exclusion[j] = get(&ev.exclusion, j, 0.0);
+            t.dist.possibility_raw[j] = c;
+            h = h.max(c);
+        }
+        (t.dist.height, t.dist.inconsistency) = (h, 1.0 - h);
+        if h < t.cfg.conflict {
+            for j in 0..n {
+                t.dist.possibility_raw[j] = pred[j].max(e[j]);
+            }
+        }
+        t.dist.normalise(t.cfg.normalisation);
+        for (i, row) in reach.iter().enumerate() {
+            let mut compat = 1.0 - max_support;
+            for &(j, r) in row {
+                compat = compat.max(r.min(t.dist.possibility[j].min(e[j])));
+            }
+            t.anchor[i] = tn.apply(t.anchor[i], compat.max(b));
+        }
+        for j in 0..n {
+            if get(&ev.support, j, 0.0) >= t.cfg.anchor_support {
+                (t.anchor[j], t.since[j]) = (t.dist.possibility[j], 0.0);
+                t.disp[j] = Some([0.0; 2]);
+            }
+        }
+        let top = t.anchor.iter().copied().fold(0.0, f64::max);
+        if top > 0.0 {
+            t.anchor.iter_mut().for_each(|m| *m /= top);
+        } else {
+            t.anchor.fill(1.0);
+            t.since.fill(0.0);
+            t.disp.fill(Some([0.0; 2]));
+        }
+        let d = decide(&t.dist, t.params);
+        let d = unless_unsupported(d, max_support, t.cfg.min_support, |k| {
+            get(&ev.support, k, 0.0)
+        });
+        (d, pred)
+    }
+
+    /// A random map of `k` places: discs and boxes scattered over 40 m, joined by a random tree
+    /// and a few more paths.
+    fn random_map(rng: &mut crate::core::rng::SplitMix64, k: usize) -> Map {
+        let mut text = String::new();
+        for i in 0..k {
+            let (x, y) = (40.0 * rng.unit(), 40.0 * rng.unit());
+            let extent = if rng.chance(0.5) {
+                format!("radius {:.2}", 0.2 + 2.0 * rng.unit())
+            } else {
+                let (w, h) = (0.5 + 3.0 * rng.unit(), 0.5 + 3.0 * rng.unit());
+                format!("box ({x:.2}, {y:.2}, {:.2}, {:.2})", x + w, y + h)
+            };
+            text += &format!("place P{i} corridor at ({x:.2}, {y:.2}) extent {extent};\n");
+        }
+        let mut joined = std::collections::HashSet::new();
+        for i in 1..k {
+            let extra = rng.chance(0.3).then(|| rng.below(i));
+            for j in [Some(rng.below(i)), extra].into_iter().flatten() {
+                if joined.insert((j, i)) {
+                    text += &format!("path P{j} -- P{i};\n");
+                }
+            }
+        }
+        Map::from_ast(&parse_map(&text).unwrap()).unwrap()
+    }
+
+    /// A degree from a few levels (ties and exact 0 and 1 are common).
+    fn level(rng: &mut crate::core::rng::SplitMix64) -> f64 {
+        match rng.below(8) {
+            0 | 1 => 0.0,
+            2 | 3 => 1.0,
+            k => 0.1 * k as f64 + 0.05 * rng.unit(),
+        }
+    }
+
+    /// A frame's evidence: flat (one level everywhere) or varied, support mostly 0 with a few
+    /// places up, now and then no support at all or evidence of the wrong length.
+    fn random_evidence(rng: &mut crate::core::rng::SplitMix64, n: usize) -> PlaceDistribution {
+        let n = if rng.chance(0.03) {
+            rng.below(n + 2)
+        } else {
+            n
+        };
+        let mut ev = PlaceDistribution::new(n);
+        let flat = rng.chance(0.5).then(|| level(rng));
+        let quiet = rng.chance(0.3);
+        for j in 0..n {
+            ev.possibility[j] = flat.unwrap_or_else(|| level(rng));
+            if !quiet && rng.chance(0.15) {
+                ev.support[j] = level(rng);
+            }
+            if rng.chance(0.3) {
+                ev.exclusion[j] = level(rng);
+            }
+        }
+        ev
+    }
+
+    /// A random configuration: every t-norm and normalisation, floors, gates and horizons.
+    fn random_config(rng: &mut crate::core::rng::SplitMix64) -> TrackerConfig {
+        let tnorm = [TNorm::Min, TNorm::Product, TNorm::Lukasiewicz][rng.below(3)];
+        let normalisation = [Normalisation::Min, Normalisation::Product][rng.below(2)];
+        TrackerConfig {
+            bias: [0.0, 0.1, 0.3, 0.05 + 0.2 * rng.unit()][rng.below(4)],
+            tnorm,
+            normalisation,
+            anchor_support: [0.0, 0.5, 0.8, 1.0][rng.below(4)],
+            min_support: 0.3 * rng.unit(),
+            conflict: [0.0, 0.3, 0.6][rng.below(3)],
+            use_heading: rng.chance(0.7),
+            evidence_length_m: [0.0, 0.0, 0.7][rng.below(3)],
+            horizon_m: [5.0, 15.0, 50.0][rng.below(3)],
+            tolerance: 0.3 + rng.unit(),
+            slope: [0.0, 1.0, 2.0 * rng.unit()][rng.below(3)],
+            ..TrackerConfig::default()
+        }
+    }
+
+    /// Everything a step leaves observable, as exact text: the decision, the distribution,
+    /// the state and the predicted possibilities (`{:?}` of an `f64` round-trips, signs of
+    /// zeros included).
+    fn observed(t: &Tracker, d: Decision, pred: &[f64]) -> String {
+        let dist = &t.dist;
+        format!(
+            "{d:?} {:?} {:?} {:?} {:?} {:?} {} {} {:?} {pred:?}",
+            dist.support,
+            dist.exclusion,
+            dist.possibility_raw,
+            dist.possibility,
+            dist.necessity,
+            dist.height,
+            dist.inconsistency,
+            t.state()
+        )
+    }
+
+    #[test]
+    fn the_step_is_the_plain_formulas_bit_for_bit() {
+        let mut rng = crate::core::rng::SplitMix64::new(16);
+        let params = DecisionParams {
+            threshold: 0.5,
+            margin: 0.1,
+        };
+        for case in 0..60 {
+            let k = 2 + rng.below(40);
+            let map = random_map(&mut rng, k);
+            let cfg = random_config(&mut rng);
+            let mut fast = Tracker::new(&map, params, cfg);
+            let mut plain = fast.clone();
+            for k in 0..300 {
+                if rng.chance(0.01) {
+                    let state = fast.state();
+                    let mut odd = state.clone();
+                    odd.anchor.iter_mut().for_each(|m| *m *= 0.5 * rng.unit());
+                    fast.restore(&odd);
+                    plain.restore(&odd);
+                }
+                let ev = random_evidence(&mut rng, fast.n);
+                let moving = rng.chance(0.8);
+                let odo = Odometry {
+                    forward: if moving { 1.5 * rng.unit() } else { 0.0 },
+                    left: if rng.chance(0.2) {
+                        0.3 * rng.unit()
+                    } else {
+                        0.0
+                    },
+                    turn: 0.2 * (rng.unit() - 0.5),
+                };
+                let heading = rng.chance(0.5).then(|| 360.0 * rng.unit());
+                let d = fast.step(&ev, odo, heading);
+                let (pd, pred) = plain_step(&mut plain, &ev, odo, heading);
+                let (a, b) = (
+                    observed(&fast, d, &fast.predicted()),
+                    observed(&plain, pd, &pred),
+                );
+                assert_eq!(a, b, "case {case}, step {k}, {cfg:?}");
+            }
         }
     }
 
