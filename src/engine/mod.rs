@@ -2,7 +2,9 @@
 //!
 //! [`Engine::load`] parses, checks and compiles (`compile`), producing a [`tape::Tape`] whose
 //! output registers are the place supports. [`Engine::step`] evaluates the tape on one
-//! [`Frame`] (regrouped by instruction kind, `columns`, one loop per kind and level), builds the place distribution (`logic::possibility`) and decides
+//! [`Frame`] (regrouped by instruction kind, `columns`, one loop per kind and level; where a
+//! similarity of bias 0 gates the rules, only the places its reading can match, `gates`), builds
+//! the place distribution (`logic::possibility`) and decides
 //! (`logic::decision`) — into buffers allocated at load time, so a step allocates nothing and
 //! cannot panic on any frame. The interpreter (`interpret`) is the slow reference the tape is
 //! tested against. This module depends on `syntax`, `map` and `logic`; nothing in those depends
