@@ -85,6 +85,12 @@ impl Columns {
     /// one (no compiled tape does; [`Tape::eval`] then stays the evaluator, whatever it makes
     /// of such a tape).
     pub fn new(tape: &Tape) -> Option<Columns> {
+        Columns::subset(tape, |_| true)
+    }
+
+    /// Like [`Columns::new`], but [`Columns::eval`] writes only the registers `keep` selects
+    /// (their operands must be written before, by this or another evaluator).
+    pub fn subset(tape: &Tape, keep: impl Fn(usize) -> bool) -> Option<Columns> {
         let n = tape.ops.len();
         let mut level = vec![0u32; n];
         let mut order: Vec<(u32, Kind, u32)> = Vec::with_capacity(n);
@@ -98,7 +104,9 @@ impl Columns {
                 l = l.max(level[r] + 1);
             }
             level[i] = l;
-            order.push((l, split(*op).0, u32::try_from(i).ok()?));
+            if keep(i) {
+                order.push((l, split(*op).0, u32::try_from(i).ok()?));
+            }
         }
         order.sort_unstable();
         let mut c = Columns {

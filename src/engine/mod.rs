@@ -2,7 +2,9 @@
 //!
 //! [`Engine::load`] parses, checks and compiles (`compile`), producing a [`tape::Tape`] whose
 //! output registers are the place supports. [`Engine::step`] evaluates the tape on one
-//! [`Frame`] (regrouped by instruction kind, `columns`, one loop per kind and level), builds the place distribution (`logic::possibility`) and decides
+//! [`Frame`] (regrouped by instruction kind, `columns`, one loop per kind and level; where a
+//! similarity of bias 0 gates the rules, only the places its reading can match, `gates`), builds
+//! the place distribution (`logic::possibility`) and decides
 //! (`logic::decision`) — into buffers allocated at load time, so a step allocates nothing and
 //! cannot panic on any frame. The interpreter (`interpret`) is the slow reference the tape is
 //! tested against. This module depends on `syntax`, `map` and `logic`; nothing in those depends
@@ -26,6 +28,7 @@
 pub mod columns;
 pub mod compile;
 pub mod frame;
+pub mod gates;
 pub mod grid_tracker;
 pub mod interpret;
 mod named_sets;
@@ -105,6 +108,8 @@ pub struct Engine {
     /// The tape regrouped by instruction kind, the evaluator a step uses (`None` only for a
     /// malformed tape, which [`tape::Tape::eval`] evaluates).
     columns: Option<columns::Columns>,
+    /// The zero-gated evaluator, used instead when the tape has gates (`gates`).
+    gated: Option<gates::Gated>,
     regs: Vec<f64>,
     dist: PlaceDistribution,
     /// One distribution per evidence group (empty without `group` blocks).
@@ -188,6 +193,7 @@ impl Engine {
         );
         let mut engine = Engine {
             columns: columns::Columns::new(&compiled.tape),
+            gated: gates::Gated::new(&compiled.tape, &observed(&compiled)),
             regs: vec![0.0; compiled.tape.len()],
             dist: PlaceDistribution::new(n),
             group_dists: vec![PlaceDistribution::new(n); groups],
@@ -259,9 +265,10 @@ impl Engine {
     /// (see `logic::possibility`). Allocates nothing.
     pub fn step_within(&mut self, frame: &Frame, known: Option<&PlaceSet>) -> Decision {
         self.sanitise(frame);
-        match &self.columns {
-            Some(c) => c.eval(&self.compiled.tape, frame, &mut self.regs),
-            None => self.compiled.tape.eval(frame, &mut self.regs),
+        match (&mut self.gated, &self.columns) {
+            (Some(g), _) => g.eval(&self.compiled.tape, frame, &mut self.regs),
+            (None, Some(c)) => c.eval(&self.compiled.tape, frame, &mut self.regs),
+            (None, None) => self.compiled.tape.eval(frame, &mut self.regs),
         }
         let read =
             |regs: &[f64], r: u32| clamp_degree(regs.get(r as usize).copied().unwrap_or(0.0));
@@ -408,6 +415,23 @@ impl Engine {
     pub fn outcome(&self) -> Outcome {
         Outcome::of(self)
     }
+}
+
+/// The registers read from outside the tape: outputs, set heads, the trace, derived atoms.
+fn observed(c: &Compiled) -> Vec<u32> {
+    c.support
+        .iter()
+        .chain(&c.exclusion)
+        .chain(&c.rooms)
+        .chain(&c.regions)
+        .chain(c.derived.iter().map(|(_, r)| r))
+        .chain(c.derived_in_context.iter().map(|(_, _, r)| r))
+        .chain(c.set_heads.iter().map(|h| &h.reg))
+        .chain(c.group_support.iter().flatten())
+        .chain(c.group_exclusion.iter().flatten())
+        .chain(c.contributions.iter().map(|c| &c.reg))
+        .copied()
+        .collect()
 }
 
 /// The slices of `d` that [`NamedSets::update`] fills.

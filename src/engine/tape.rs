@@ -116,34 +116,38 @@ impl Tape {
     pub fn eval(&self, frame: &Frame, regs: &mut [f64]) {
         let n = self.ops.len().min(regs.len());
         for i in 0..n {
-            let v = match self.ops[i] {
-                Op::Const(c) => c,
-                Op::Degree(s) => {
-                    clamp_degree(frame.degree.get(s.0 as usize).copied().unwrap_or(0.0))
-                }
-                Op::Match {
-                    slot,
-                    similarity,
-                    centre,
-                    half,
-                } => {
-                    let s = slot.0 as usize;
-                    let d = clamp_degree(frame.degree.get(s).copied().unwrap_or(0.0));
-                    let x = frame.value.get(s).copied().unwrap_or(f64::NAN);
-                    let sim = self
-                        .similarities
-                        .get(similarity as usize)
-                        .map_or(0.0, |t| t.degree_within(x, centre, half));
-                    d.min(clamp_degree(sim))
-                }
-                Op::Min(a, b) => regs[a as usize].min(regs[b as usize]),
-                Op::Max(a, b) => regs[a as usize].max(regs[b as usize]),
-                Op::TNorm(a, b) => self.logic.tnorm.apply(regs[a as usize], regs[b as usize]),
-                Op::Not(a) => 1.0 - regs[a as usize],
-                Op::Implies(a, b) => self.logic.implies(regs[a as usize], regs[b as usize]),
-                Op::Detach(a, w) => self.logic.detach(regs[a as usize], w),
-            };
-            regs[i] = v;
+            regs[i] = self.eval_op(self.ops[i], frame, regs);
+        }
+    }
+
+    /// The value instruction `op` writes for `frame`, its operands read from `regs` (which must
+    /// hold them): one step of [`Tape::eval`], shared with the evaluators that skip registers.
+    #[inline(always)]
+    pub(crate) fn eval_op(&self, op: Op, frame: &Frame, regs: &[f64]) -> f64 {
+        match op {
+            Op::Const(c) => c,
+            Op::Degree(s) => clamp_degree(frame.degree.get(s.0 as usize).copied().unwrap_or(0.0)),
+            Op::Match {
+                slot,
+                similarity,
+                centre,
+                half,
+            } => {
+                let s = slot.0 as usize;
+                let d = clamp_degree(frame.degree.get(s).copied().unwrap_or(0.0));
+                let x = frame.value.get(s).copied().unwrap_or(f64::NAN);
+                let sim = self
+                    .similarities
+                    .get(similarity as usize)
+                    .map_or(0.0, |t| t.degree_within(x, centre, half));
+                d.min(clamp_degree(sim))
+            }
+            Op::Min(a, b) => regs[a as usize].min(regs[b as usize]),
+            Op::Max(a, b) => regs[a as usize].max(regs[b as usize]),
+            Op::TNorm(a, b) => self.logic.tnorm.apply(regs[a as usize], regs[b as usize]),
+            Op::Not(a) => 1.0 - regs[a as usize],
+            Op::Implies(a, b) => self.logic.implies(regs[a as usize], regs[b as usize]),
+            Op::Detach(a, w) => self.logic.detach(regs[a as usize], w),
         }
     }
 
