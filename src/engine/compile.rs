@@ -109,6 +109,9 @@ pub struct Compiled {
     /// Warnings about the rules on this map: rules that never fire on it
     /// ([`NeverFiresReason::NotOnThisMap`]), in rule order.
     pub warnings: Vec<Diagnostic>,
+    /// Every register read from outside the tape — the registers above and the trace's — in
+    /// no particular order: what an evaluator that skips registers must leave exact.
+    pub observed: Vec<Reg>,
 }
 
 /// Builds the tape: folds constants and shares identical instructions.
@@ -563,6 +566,23 @@ struct Outputs {
     group_exclusion: Vec<Vec<Reg>>,
 }
 
+impl Outputs {
+    /// Every register the outputs name: the one list of them, for marking, renumbering and
+    /// [`Compiled::observed`] alike.
+    fn regs_mut(&mut self) -> impl Iterator<Item = &mut Reg> {
+        self.support
+            .iter_mut()
+            .chain(&mut self.exclusion)
+            .chain(&mut self.rooms)
+            .chain(&mut self.regions)
+            .chain(self.derived.iter_mut().map(|(_, r)| r))
+            .chain(self.derived_in_context.iter_mut().map(|(_, _, r)| r))
+            .chain(self.set_heads.iter_mut().map(|h| &mut h.reg))
+            .chain(self.group_support.iter_mut().flatten())
+            .chain(self.group_exclusion.iter_mut().flatten())
+    }
+}
+
 /// Compiles `rules` over `map`. Errors are the diagnostics of recursive predicate definitions;
 /// rules that never fire on this map are warnings in [`Compiled::warnings`].
 pub fn compile(
@@ -840,22 +860,11 @@ fn prune(
     percepts: PerceptTable,
 ) -> Compiled {
     let mut live = vec![false; b.ops.len()];
-    {
-        let roots = out
-            .support
-            .iter()
-            .chain(&out.exclusion)
-            .chain(&out.rooms)
-            .chain(&out.regions)
-            .chain(out.derived.iter().map(|(_, r)| r))
-            .chain(out.derived_in_context.iter().map(|(_, _, r)| r))
-            .chain(out.set_heads.iter().map(|h| &h.reg))
-            .chain(out.group_support.iter().flatten())
-            .chain(out.group_exclusion.iter().flatten())
-            .chain(contributions.iter().map(|c| &c.reg));
-        for &r in roots {
-            live[r as usize] = true;
-        }
+    let roots = out
+        .regs_mut()
+        .chain(contributions.iter_mut().map(|c| &mut c.reg));
+    for r in roots {
+        live[*r as usize] = true;
     }
     for i in (0..b.ops.len()).rev() {
         if live[i] {
@@ -872,19 +881,14 @@ fn prune(
             ops.push(op.map_operands(|r| renumber[r as usize]));
         }
     }
-    let rn = |r: &mut Reg| *r = renumber[*r as usize];
-    out.support.iter_mut().for_each(rn);
-    out.exclusion.iter_mut().for_each(rn);
-    out.rooms.iter_mut().for_each(rn);
-    out.regions.iter_mut().for_each(rn);
-    out.derived.iter_mut().for_each(|(_, r)| rn(r));
-    out.derived_in_context
-        .iter_mut()
-        .for_each(|(_, _, r)| rn(r));
-    out.set_heads.iter_mut().for_each(|h| rn(&mut h.reg));
-    out.group_support.iter_mut().flatten().for_each(rn);
-    out.group_exclusion.iter_mut().flatten().for_each(rn);
-    contributions.iter_mut().for_each(|c| rn(&mut c.reg));
+    let observed = out
+        .regs_mut()
+        .chain(contributions.iter_mut().map(|c| &mut c.reg))
+        .map(|r| {
+            *r = renumber[*r as usize];
+            *r
+        })
+        .collect();
     Compiled {
         tape: Tape {
             ops,
@@ -905,6 +909,7 @@ fn prune(
         group_exclusion: out.group_exclusion,
         contributions,
         warnings: Vec::new(),
+        observed,
     }
 }
 

@@ -193,7 +193,7 @@ impl Engine {
         );
         let mut engine = Engine {
             columns: columns::Columns::new(&compiled.tape),
-            gated: gates::Gated::new(&compiled.tape, &observed(&compiled)),
+            gated: gates::Gated::new(&compiled.tape, &compiled.observed),
             regs: vec![0.0; compiled.tape.len()],
             dist: PlaceDistribution::new(n),
             group_dists: vec![PlaceDistribution::new(n); groups],
@@ -415,23 +415,6 @@ impl Engine {
     pub fn outcome(&self) -> Outcome {
         Outcome::of(self)
     }
-}
-
-/// The registers read from outside the tape: outputs, set heads, the trace, derived atoms.
-fn observed(c: &Compiled) -> Vec<u32> {
-    c.support
-        .iter()
-        .chain(&c.exclusion)
-        .chain(&c.rooms)
-        .chain(&c.regions)
-        .chain(c.derived.iter().map(|(_, r)| r))
-        .chain(c.derived_in_context.iter().map(|(_, _, r)| r))
-        .chain(c.set_heads.iter().map(|h| &h.reg))
-        .chain(c.group_support.iter().flatten())
-        .chain(c.group_exclusion.iter().flatten())
-        .chain(c.contributions.iter().map(|c| &c.reg))
-        .copied()
-        .collect()
 }
 
 /// The slices of `d` that [`NamedSets::update`] fills.
