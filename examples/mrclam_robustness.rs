@@ -8,7 +8,8 @@
 //! `config/grid-mrclam.ron`, robots 1–5). With `--pf` first, the particle filter the grid is
 //! compared with (config/pf.ron, 2,000 particles, seed 1, spread over the grid's bounds as
 //! `lplace compare` does) under the same landmark draws instead: what the 3 % goal asks of the
-//! grid, measured on the reference method. Data: `$LPLACE_DATA/mrclam-dataset7` or
+//! grid, measured on the reference method. `--lattices K` (after `--pf`, before CONFIG) runs
+//! the grid on K shifted lattices (`GridConfig::lattices`). Data: `$LPLACE_DATA/mrclam-dataset7` or
 //! `../shared/data/mrclam-dataset7` relative to the crate root.
 
 #[path = "support/mrclam.rs"]
@@ -89,10 +90,22 @@ fn main() -> Result<()> {
     };
     let mut args = std::env::args().skip(1).peekable();
     let pf = args.next_if(|a| a == "--pf").is_some();
+    let lattices = match args.next_if(|a| a == "--lattices") {
+        Some(_) => Some(
+            args.next()
+                .ok_or("--lattices needs a count")?
+                .parse::<u32>()?,
+        ),
+        None => None,
+    };
     let cfg_path = args
         .next()
         .unwrap_or_else(|| "config/grid-mrclam.ron".into());
-    let cfg = GridConfig::from_ron(&std::fs::read_to_string(&cfg_path)?)?;
+    let mut cfg = GridConfig::from_ron(&std::fs::read_to_string(&cfg_path)?)?;
+    if let Some(k) = lattices {
+        cfg.lattices = k;
+        cfg.validate()?;
+    }
     let mut robots: Vec<u32> = args
         .map(|a| a.parse())
         .collect::<std::result::Result<_, _>>()?;

@@ -250,7 +250,18 @@ pub struct GridConfig {
     /// 0 keeps every reading. Default 1 s: on MRCLAM it removes the multi-metre
     /// jumps that runs of biased readings caused (worst error 5 m → 1.2 m).
     pub reobserve_interval: f32,
+    /// How many grids the localizer (`localize::grid`, a layer above) runs side by side, each
+    /// on the cell lattice moved by a different fraction of a cell, averaging their estimates
+    /// (averaged shifted histograms). One grid's estimate depends on where the cell boundaries
+    /// fall: a reading crossing a cut, or a shift rounding the other way, moves it by a cell,
+    /// and a landmark moved by a millimetre can do that. Averaging over lattices that place the
+    /// boundaries evenly within a cell smooths this out, at `lattices` times the cost.
+    /// Default 1 (one grid). At most [`MAX_LATTICES`].
+    pub lattices: u32,
 }
+
+/// The largest [`GridConfig::lattices`] accepted.
+pub const MAX_LATTICES: u32 = 64;
 
 impl Default for GridConfig {
     fn default() -> Self {
@@ -297,6 +308,7 @@ impl Default for GridConfig {
             reliability_area: 0.25,
             fix_reliability: 0.5,
             reobserve_interval: 1.0,
+            lattices: 1,
         }
     }
 }
@@ -372,6 +384,12 @@ impl GridConfig {
                     reason: "need finite x_min < x_max, y_min < y_max",
                 });
             }
+        }
+        if !(1..=MAX_LATTICES).contains(&self.lattices) {
+            return Err(GridError::BadConfig {
+                field: "lattices",
+                reason: "must be from 1 to 64",
+            });
         }
         if !self.blur.is_valid() {
             return Err(GridError::BadConfig {

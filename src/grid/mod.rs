@@ -30,6 +30,7 @@ pub use cap::Region;
 pub use cells::FuzzyGrid;
 pub use config::{
     Combine, Cuts, Dilation, ElementShape, GridConfig, RaisedHeadings, SensorModel, Shift,
+    MAX_LATTICES,
 };
 pub use estimate::Estimate;
 pub use observe::{Landmark, LandmarkTable, Observation};

@@ -16,13 +16,17 @@ fn ate(table: &LandmarkTable, cfg: &GridConfig, frames: &[MetricFrame]) -> f64 {
 }
 
 /// Robot 1's largest relative ATE change over the ten landmark draws and over the ±1 %
-/// configuration changes (with the value that caused it), or `None` without the data.
-fn robot1_spreads() -> Option<(f64, f64, String)> {
+/// configuration changes (with the value that caused it), config/grid-mrclam.ron on `lattices`
+/// lattices, or `None` without the data.
+fn robot1_spreads(lattices: u32) -> Option<(f64, f64, String)> {
     let dir = mrclam_dir()?;
     let data = lplace::io::mrclam_dir::load(&dir, &[1]).unwrap();
     let table = survey_landmarks(data.survey().unwrap()).unwrap();
     let frames = data.robots.into_iter().next().unwrap().frames;
-    let cfg = GridConfig::from_ron(include_str!("../../config/grid-mrclam.ron")).unwrap();
+    let cfg = GridConfig {
+        lattices,
+        ..GridConfig::from_ron(include_str!("../../config/grid-mrclam.ron")).unwrap()
+    };
     let base = ate(&table, &cfg, &frames);
     let change = |a: f64| (a - base).abs() / base;
     let landmarks = (1..=10)
@@ -47,7 +51,7 @@ fn robot1_spreads() -> Option<(f64, f64, String)> {
         }
     }
     eprintln!(
-        "robot 1: ATE {base:.3} m; landmarks ±1 mm: up to {:.1} %; config ±1 %: up to {:.1} % ({})",
+        "robot 1, {lattices} lattice(s): ATE {base:.3} m; landmarks ±1 mm: up to {:.1} %; config ±1 %: up to {:.1} % ({})",
         100.0 * landmarks,
         100.0 * config.0,
         config.1
@@ -62,7 +66,7 @@ fn robot1_spreads() -> Option<(f64, f64, String)> {
 /// towards that fragility.
 #[test]
 fn mrclam_robot1_ate_is_no_more_fragile_than_measured() {
-    let Some((landmarks, config, worst)) = robot1_spreads() else {
+    let Some((landmarks, config, worst)) = robot1_spreads(1) else {
         return;
     };
     assert!(landmarks <= 0.025, "{landmarks}");
@@ -75,7 +79,19 @@ fn mrclam_robot1_ate_is_no_more_fragile_than_measured() {
 #[test]
 #[ignore = "issue 20's 3 % goal for the configuration is not met yet (robot 1: 6.0 %)"]
 fn mrclam_robot1_ate_moves_at_most_3_percent() {
-    let Some((landmarks, config, worst)) = robot1_spreads() else {
+    let Some((landmarks, config, worst)) = robot1_spreads(1) else {
+        return;
+    };
+    assert!(landmarks <= 0.03, "{landmarks}");
+    assert!(config <= 0.03, "{config} ({worst})");
+}
+
+/// Issue 20's 3 % goal, both halves, with eight shifted lattices averaged (`lattices: 8`;
+/// measured 1.7 % and 2.5 %, `forward_scale` ×1.01). Not the file's setting: eight grids cost
+/// eight times one (docs/compare.md, "Averaged shifted lattices").
+#[test]
+fn mrclam_robot1_ate_on_eight_lattices_moves_at_most_3_percent() {
+    let Some((landmarks, config, worst)) = robot1_spreads(8) else {
         return;
     };
     assert!(landmarks <= 0.03, "{landmarks}");
