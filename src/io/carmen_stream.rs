@@ -76,6 +76,10 @@ struct QualityCounts {
     residuals: Vec<f64>,
     /// Per frame with a heading and a true pose, the size of the heading's error, degrees.
     truth_errors: Vec<f64>,
+    /// Odometry increments (every scan but the first), and those taken from the two scans'
+    /// own odom poses because no `ODOM` reading came between them.
+    steps: u64,
+    from_scan_poses: u64,
 }
 
 /// Quality figures of an extraction, from the stream alone (no ground truth): how densely the
@@ -109,6 +113,12 @@ pub struct ExtractQuality {
     pub truth_heading_within_10_share: Option<f64>,
     /// Median of the heading's error against the true poses, degrees; `None` as above.
     pub truth_heading_error_median_deg: Option<f64>,
+    /// Odometry increments, one per scan after the first.
+    pub odometry_steps: u64,
+    /// Of them, those taken from the two scans' own odom poses, no `ODOM` reading coming
+    /// between: in a corrected log those slots hold the corrected pose, so such a step carries
+    /// the corrected motion, not the robot's odometry.
+    pub odometry_from_scan_poses: u64,
 }
 
 impl std::fmt::Display for ExtractQuality {
@@ -136,6 +146,14 @@ impl std::fmt::Display for ExtractQuality {
                 "; against the true poses, heading within 10° on {:.1} % of frames (median error \
                  {median:.1}°)",
                 100.0 * within
+            )?;
+        }
+        if self.odometry_from_scan_poses > 0 {
+            write!(
+                f,
+                "; odometry from the scans' own poses on {} of {} steps (no ODOM between two \
+                 scans: in a corrected log, the corrected motion)",
+                self.odometry_from_scan_poses, self.odometry_steps
             )?;
         }
         Ok(())
@@ -201,6 +219,8 @@ impl<'m> CarmenFramer<'m> {
             heading_residual_p90_deg: pick(0.9),
             truth_heading_within_10_share: has_truth.then(|| share(truth_within, e.len() as u64)),
             truth_heading_error_median_deg: e.get(e.len() / 2).copied(),
+            odometry_steps: q.steps,
+            odometry_from_scan_poses: q.from_scan_poses,
         }
     }
 
@@ -265,6 +285,10 @@ impl<'m> CarmenFramer<'m> {
     /// The odometry increment since the previous scan (from the latest `ODOM`, else the scan's
     /// own pose), folded into the dead reckoning; `None` for the first scan.
     fn advance_odometry(&mut self, scan: &LaserScan) -> Option<Pose2> {
+        if self.prev_scan_odom.is_some() {
+            self.quality.steps += 1;
+            self.quality.from_scan_poses += u64::from(self.last_odom.is_none());
+        }
         let odometry = self.prev_scan_odom.map(|prev| {
             let now = self.last_odom.unwrap_or(scan.odom_pose);
             relative(&prev, &now)
@@ -582,5 +606,30 @@ mod tests {
         assert_eq!(q.truth_heading_within_10_share, None);
         assert_eq!(q.truth_heading_error_median_deg, None);
         assert!(!q.to_string().contains("true poses"), "{q}");
+    }
+
+    #[test]
+    fn steps_without_an_odom_reading_are_counted_and_named() {
+        // FLASER lines only: every step after the first comes from the scans' own poses.
+        let q = quality_of(&square_room_log(6, 0.0), false);
+        assert_eq!((q.odometry_from_scan_poses, q.odometry_steps), (5, 5));
+        assert!(q.to_string().contains("own poses on 5 of 5 steps"), "{q}");
+        // An ODOM reading before every scan but the third: one step from the scans' poses.
+        let mut log = String::new();
+        for (k, line) in square_room_log(6, 0.0).lines().enumerate() {
+            if k > 0 && k != 3 {
+                let x = -1.0 + 0.3 * k as f64;
+                log.push_str(&format!("ODOM {x} 0 0 0 0 0 {k}.0 host {k}.0\n"));
+            }
+            log.push_str(line);
+            log.push('\n');
+        }
+        let q = quality_of(&log, false);
+        assert_eq!((q.odometry_from_scan_poses, q.odometry_steps), (1, 5));
+        // With ODOM readings throughout, the line says nothing of it.
+        let log = log.replace("FLASER", "ODOM -9 0 0 0 0 0 0.0 host 0.0\nFLASER");
+        let q = quality_of(&log, false);
+        assert_eq!(q.odometry_from_scan_poses, 0, "{q}");
+        assert!(!q.to_string().contains("own poses"), "{q}");
     }
 }
