@@ -351,7 +351,8 @@ pub struct ExtractArgs {
     #[arg(long, value_name = "N")]
     pub robot: Option<u32>,
     /// Map (.map) whose place extents give each frame's ground-truth place; its `axis D;`
-    /// statement, if any, replaces the config's `compass.axis_deg`.
+    /// statement, if any, replaces the config's `compass.axis_deg`. With it, the quality line
+    /// on stderr also scores the heading against the log's true poses.
     #[arg(long, value_name = "MAP")]
     pub map: Option<PathBuf>,
     /// Extractor parameters (RON; see `percept::ExtractConfig`). Default: the travelling

@@ -74,11 +74,19 @@ struct QualityCounts {
     locked: u64,
     /// Per locking frame, the size of the heading correction, degrees.
     residuals: Vec<f64>,
+    /// Per frame with a heading and a true pose, the size of the heading's error, degrees.
+    truth_errors: Vec<f64>,
+    /// Odometry increments (every scan but the first), and those taken from the two scans'
+    /// own odom poses because no `ODOM` reading came between them.
+    steps: u64,
+    from_scan_poses: u64,
 }
 
 /// Quality figures of an extraction, from the stream alone (no ground truth): how densely the
 /// log samples the path, how much of the compass view reads nothing, and how steadily the
-/// heading lock follows the odometry from scan to scan.
+/// heading lock follows the odometry from scan to scan. When the frames carry true poses (a
+/// map given), also how far the heading is from them: a quarter-turn lost is as steady from scan
+/// to scan as the right one, so only this figure shows it.
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
 pub struct ExtractQuality {
     /// Frames extracted.
@@ -100,6 +108,17 @@ pub struct ExtractQuality {
     pub heading_residual_median_deg: f64,
     /// See `heading_residual_median_deg`.
     pub heading_residual_p90_deg: f64,
+    /// Share of the frames with a true pose whose heading is within 10° of it; `None` without
+    /// true poses (no map) or without a heading (compass off).
+    pub truth_heading_within_10_share: Option<f64>,
+    /// Median of the heading's error against the true poses, degrees; `None` as above.
+    pub truth_heading_error_median_deg: Option<f64>,
+    /// Odometry increments, one per scan after the first.
+    pub odometry_steps: u64,
+    /// Of them, those taken from the two scans' own odom poses, no `ODOM` reading coming
+    /// between: in a corrected log those slots hold the corrected pose, so such a step carries
+    /// the corrected motion, not the robot's odometry.
+    pub odometry_from_scan_poses: u64,
 }
 
 impl std::fmt::Display for ExtractQuality {
@@ -117,7 +136,27 @@ impl std::fmt::Display for ExtractQuality {
             100.0 * self.heading_consistent_share,
             self.heading_residual_median_deg,
             self.heading_residual_p90_deg
-        )
+        )?;
+        if let (Some(within), Some(median)) = (
+            self.truth_heading_within_10_share,
+            self.truth_heading_error_median_deg,
+        ) {
+            write!(
+                f,
+                "; against the true poses, heading within 10° on {:.1} % of frames (median error \
+                 {median:.1}°)",
+                100.0 * within
+            )?;
+        }
+        if self.odometry_from_scan_poses > 0 {
+            write!(
+                f,
+                "; odometry from the scans' own poses on {} of {} steps (no ODOM between two \
+                 scans: in a corrected log, the corrected motion)",
+                self.odometry_from_scan_poses, self.odometry_steps
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -160,6 +199,10 @@ impl<'m> CarmenFramer<'m> {
             r.get(i).copied().unwrap_or(0.0)
         };
         let consistent = r.iter().filter(|&&v| v <= 5.0).count() as u64;
+        let mut e = q.truth_errors.clone();
+        e.sort_by(f64::total_cmp);
+        let truth_within = e.iter().filter(|&&v| v <= 10.0).count() as u64;
+        let has_truth = !e.is_empty();
         ExtractQuality {
             frames: self.frames,
             distance_m: q.distance,
@@ -174,6 +217,10 @@ impl<'m> CarmenFramer<'m> {
             heading_consistent_share: share(consistent, r.len() as u64),
             heading_residual_median_deg: pick(0.5),
             heading_residual_p90_deg: pick(0.9),
+            truth_heading_within_10_share: has_truth.then(|| share(truth_within, e.len() as u64)),
+            truth_heading_error_median_deg: e.get(e.len() / 2).copied(),
+            odometry_steps: q.steps,
+            odometry_from_scan_poses: q.from_scan_poses,
         }
     }
 
@@ -238,6 +285,10 @@ impl<'m> CarmenFramer<'m> {
     /// The odometry increment since the previous scan (from the latest `ODOM`, else the scan's
     /// own pose), folded into the dead reckoning; `None` for the first scan.
     fn advance_odometry(&mut self, scan: &LaserScan) -> Option<Pose2> {
+        if self.prev_scan_odom.is_some() {
+            self.quality.steps += 1;
+            self.quality.from_scan_poses += u64::from(self.last_odom.is_none());
+        }
         let odometry = self.prev_scan_odom.map(|prev| {
             let now = self.last_odom.unwrap_or(scan.odom_pose);
             relative(&prev, &now)
@@ -328,6 +379,12 @@ impl<'m> CarmenFramer<'m> {
             .map(|p| wrap_180(p.theta.to_degrees()));
         self.count_quality(odometry.as_ref(), &free[..n_free]);
         let truth = self.truth(scan);
+        if let (Some(h), Some(p)) = (heading, truth.as_ref().and_then(|t| t.pose)) {
+            let error = wrap_180(h - p[2]).abs();
+            if error.is_finite() {
+                self.quality.truth_errors.push(error);
+            }
+        }
         self.frames += 1;
         // Scan `ipc_ts` occasionally steps back by a fraction of a second (4 times in the Intel
         // log) although lines are in chronological order (data README), and a stream's time
@@ -467,5 +524,112 @@ mod tests {
         assert!((d.x - 1.0).abs() < 1e-12 && d.y.abs() < 1e-12 && d.theta.abs() < 1e-12);
         assert_eq!(wrap_180(540.0), 180.0);
         assert_eq!(wrap_180(-190.0), 170.0);
+    }
+
+    /// A CARMEN log of `n` scans in a square room (walls 3 m from its centre, square to the
+    /// axes): the robot drives along +x from (-1, 0) facing East by its odometry, while its
+    /// recorded (true) heading is `true_offset_deg` off that.
+    fn square_room_log(n: usize, true_offset_deg: f64) -> String {
+        let mut log = String::new();
+        for k in 0..n {
+            let x = -1.0 + 0.3 * k as f64;
+            let ranges: Vec<String> = (0..181)
+                .map(|i| {
+                    let phi = (i as f64 - 90.0).to_radians();
+                    let (s, c) = phi.sin_cos();
+                    let to_x = if c > 1e-9 {
+                        (3.0 - x) / c
+                    } else if c < -1e-9 {
+                        (-3.0 - x) / c
+                    } else {
+                        f64::INFINITY
+                    };
+                    let to_y = if s.abs() > 1e-9 {
+                        3.0 / s.abs()
+                    } else {
+                        f64::INFINITY
+                    };
+                    format!("{:.3}", to_x.min(to_y))
+                })
+                .collect();
+            let truth = true_offset_deg.to_radians();
+            log.push_str(&format!(
+                "FLASER 181 {} {x} 0 {truth} {x} 0 0 {k}.0 host {k}.0\n",
+                ranges.join(" ")
+            ));
+        }
+        log
+    }
+
+    fn quality_of(log: &str, with_places: bool) -> ExtractQuality {
+        let text = "map m; room R; place P room in R at (0, 0) extent box (-3, -3, 3, 3) { }";
+        let ast = crate::syntax::parse_map(text).expect("parses");
+        let map = crate::map::Map::from_ast(&ast).expect("builds");
+        let places = with_places.then(|| map.places());
+        let mut framer = CarmenFramer::new(ExtractConfig::travelling(), places).expect("valid");
+        let done = convert(
+            log.as_bytes(),
+            &mut framer,
+            |_| Ok::<(), ()>(()),
+            |e| panic!("{e}"),
+        );
+        assert_eq!(done.map(|s| s.frames), Ok(6));
+        framer.quality()
+    }
+
+    #[test]
+    fn the_heading_is_scored_against_the_true_poses_only_when_they_are_known() {
+        // Odometry and truth agree: the locked heading is the true one.
+        let q = quality_of(&square_room_log(6, 0.0), true);
+        assert_eq!(q.truth_heading_within_10_share, Some(1.0));
+        assert!(
+            q.truth_heading_error_median_deg.is_some_and(|e| e < 1.0),
+            "{q}"
+        );
+        assert!(
+            q.to_string()
+                .contains("heading within 10° on 100.0 % of frames"),
+            "{q}"
+        );
+        // The log's true heading is a quarter-turn off the odometry's: the lock keeps the
+        // odometry's quarter-turn, steady from scan to scan, and only the truth shows it.
+        let q = quality_of(&square_room_log(6, 90.0), true);
+        assert_eq!(q.truth_heading_within_10_share, Some(0.0));
+        assert!(
+            q.truth_heading_error_median_deg
+                .is_some_and(|e| (e - 90.0).abs() < 1.0),
+            "{q}"
+        );
+        assert!(q.heading_consistent_share > 0.99, "{q}");
+        // Without a map there is no truth to score against, and the line says nothing of it.
+        let q = quality_of(&square_room_log(6, 90.0), false);
+        assert_eq!(q.truth_heading_within_10_share, None);
+        assert_eq!(q.truth_heading_error_median_deg, None);
+        assert!(!q.to_string().contains("true poses"), "{q}");
+    }
+
+    #[test]
+    fn steps_without_an_odom_reading_are_counted_and_named() {
+        // FLASER lines only: every step after the first comes from the scans' own poses.
+        let q = quality_of(&square_room_log(6, 0.0), false);
+        assert_eq!((q.odometry_from_scan_poses, q.odometry_steps), (5, 5));
+        assert!(q.to_string().contains("own poses on 5 of 5 steps"), "{q}");
+        // An ODOM reading before every scan but the third: one step from the scans' poses.
+        let mut log = String::new();
+        for (k, line) in square_room_log(6, 0.0).lines().enumerate() {
+            if k > 0 && k != 3 {
+                let x = -1.0 + 0.3 * k as f64;
+                log.push_str(&format!("ODOM {x} 0 0 0 0 0 {k}.0 host {k}.0\n"));
+            }
+            log.push_str(line);
+            log.push('\n');
+        }
+        let q = quality_of(&log, false);
+        assert_eq!((q.odometry_from_scan_poses, q.odometry_steps), (1, 5));
+        // With ODOM readings throughout, the line says nothing of it.
+        let log = log.replace("FLASER", "ODOM -9 0 0 0 0 0 0.0 host 0.0\nFLASER");
+        let q = quality_of(&log, false);
+        assert_eq!(q.odometry_from_scan_poses, 0, "{q}");
+        assert!(!q.to_string().contains("own poses"), "{q}");
     }
 }

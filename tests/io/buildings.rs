@@ -1,6 +1,8 @@
 //! The buildings table (issue 17): every mapped CARMEN building, extracted from its raw log,
 //! evaluated with the same rules (`rules/intel.lpl`) and tracker (`config/intel-tracker.ron`);
-//! per building only the map and the extractor's building axis differ. Two protocols:
+//! per building only the map and the extractor's building axis differ. A building mapped from
+//! its floor plan only, with the tutorial's defaults (CSAIL: no config file, no surveyed map),
+//! has the `rules/laser.lpl` rows alone. Two protocols:
 //! **same log** (the committed map, surveyed on the log it is scored on) and **held out**
 //! (each place re-surveyed on its first visit with `lplace survey --fit first-visits`'s library
 //! code, the later visits scored; once with `rules/intel.lpl` into the surveyed map, once with
@@ -24,6 +26,7 @@ use lplace::engine::{CompileOptions, Engine};
 use lplace::io::record::FrameRecord;
 use lplace::logic::Decision;
 use lplace::map::Map;
+use lplace::percept::ExtractConfig;
 use lplace::report::run::StreamRun;
 use lplace::survey::{
     decide_all, fit, links_from_rules, visits, write_params, Protocol, Score, SurveyConfig,
@@ -31,13 +34,27 @@ use lplace::survey::{
 use lplace::syntax::diagnostic::SourceFile;
 use lplace::syntax::{parse_map, parse_rules};
 
+/// Locked figures: least decided, least right of decided, most confidently wrong.
+type Figures = (f64, f64, f64);
+
+/// The `rules/intel.lpl` rows of a building: its surveyed map and their locked figures.
+#[derive(Clone, Copy)]
+struct IntelRows {
+    map: &'static str,
+    same_log: Figures,
+    held_out: Figures,
+}
+
 struct Building {
     name: &'static str,
     log: &'static str,
-    map: &'static str,
-    config: &'static str,
-    same_log: (f64, f64, f64),
-    held_out: (f64, f64, f64),
+    /// The map surveyed with `rules/intel.lpl`, scored by the rows of that rule file, and
+    /// their locked figures (same log, held out); `None` for a building mapped from its floor
+    /// plan only, which has no such rows (its truth comes from the floor-plan map's extents).
+    intel: Option<IntelRows>,
+    /// The extractor config; `None`: the travelling settings, as `lplace extract` without
+    /// `--config` (docs/new-building.md).
+    config: Option<&'static str>,
     /// The same log with `rules/laser.lpl`, every visit fitted into the floor-plan map.
     same_log_laser: (f64, f64, f64),
     /// The same held-out protocol with `rules/laser.lpl`, fitted into the floor-plan map.
@@ -49,16 +66,18 @@ struct Building {
     plan_outside: f64,
 }
 
-const BUILDINGS: [Building; 3] = [
+const BUILDINGS: [Building; 4] = [
     // Measured: same log 71.9 % / 95.4 % / 0 %; held out (709 scans) 10.7 % / 81.6 % / 0 %
     // (6.1 % / 81.4 % / 0.1 % before the scan count).
     Building {
         name: "Intel Research Lab",
         log: "carmen-corrected-logs/intel-corrected.log",
-        map: "maps/intel.map",
-        config: "config/intel.ron",
-        same_log: (0.70, 0.95, 0.01),
-        held_out: (0.10, 0.80, 0.01),
+        intel: Some(IntelRows {
+            map: "maps/intel.map",
+            same_log: (0.70, 0.95, 0.01),
+            held_out: (0.10, 0.80, 0.01),
+        }),
+        config: Some("config/intel.ron"),
         // Measured with rules/laser.lpl: 56.8 % / 93.1 % / 0 % (51.1 % / 95.3 % before the scan
         // count; 53.2 % / 93.4 % before its junction rule).
         // Measured with rules/laser.lpl, every visit fitted into the floor-plan map: 73.5 % /
@@ -76,10 +95,12 @@ const BUILDINGS: [Building; 3] = [
     Building {
         name: "Freiburg 101",
         log: "carmen-corrected-logs/freiburg-101-corrected.log",
-        map: "maps/freiburg-101.map",
-        config: "config/freiburg-101.ron",
-        same_log: (0.64, 0.97, 0.01),
-        held_out: (0.30, 0.65, 0.01),
+        intel: Some(IntelRows {
+            map: "maps/freiburg-101.map",
+            same_log: (0.64, 0.97, 0.01),
+            held_out: (0.30, 0.65, 0.01),
+        }),
+        config: Some("config/freiburg-101.ron"),
         // Measured with rules/laser.lpl: 58.6 % / 91.9 % / 0 % (37.9 % / 95.5 % before the scan
         // count).
         // Measured with rules/laser.lpl, every visit fitted into the floor-plan map: 71.9 % /
@@ -96,10 +117,12 @@ const BUILDINGS: [Building; 3] = [
     Building {
         name: "Seattle",
         log: "carmen-corrected-logs/seattle-corrected.log.gz",
-        map: "maps/seattle.map",
-        config: "config/seattle.ron",
-        same_log: (0.72, 0.97, 0.01),
-        held_out: (0.50, 0.97, 0.01),
+        intel: Some(IntelRows {
+            map: "maps/seattle.map",
+            same_log: (0.72, 0.97, 0.01),
+            held_out: (0.50, 0.97, 0.01),
+        }),
+        config: Some("config/seattle.ron"),
         // Measured with rules/laser.lpl: 90.4 % / 100 % / 0 % (87.2 % before the scan count,
         // 88.0 % before its junction rule).
         // Measured with rules/laser.lpl, every visit fitted into the floor-plan map: 80.1 % /
@@ -111,10 +134,33 @@ const BUILDINGS: [Building; 3] = [
         plan_figures: (0.61, 0.90, 0.01),
         plan_outside: 0.05,
     },
+    // Mapped blind (issue 17): the floor plan drawn from a picture of the corrected scans
+    // with every default fixed before, no config file, no surveyed `rules/intel.lpl` map.
+    // Measured 2026-12-03: same log 15.7 % / 6.5 % / 0 %, held out (140 scans) 18.6 % /
+    // 15.4 % / 0 %, floor plan 22.5 % / 2.2 % / 0 %, a place asserted on none of the 11 scans
+    // outside. Far under the goal: the heading is within 10° of the truth on 5.2 % of the
+    // scans (a quarter-turn lost in the first 45, another in the curved room and the wing at
+    // 27° to the rest), so every direction is read wrong (docs/new-building.md, section 5).
+    // Locked so that the one figure that holds, confidently wrong, stays at 0.
+    Building {
+        name: "CSAIL",
+        log: "carmen-corrected-logs/csail-corrected.log",
+        intel: None,
+        config: None,
+        same_log_laser: (0.14, 0.05, 0.01),
+        held_out_laser: (0.17, 0.13, 0.01),
+        plan: "maps/csail-plan.map",
+        plan_figures: (0.21, 0.01, 0.01),
+        plan_outside: 0.05,
+    },
 ];
 
 fn extract(b: &Building, map: &Map) -> Vec<FrameRecord> {
-    carmen::extract(&data_dir().join(b.log), b.config, map)
+    let log = data_dir().join(b.log);
+    match b.config {
+        Some(config) => carmen::extract(&log, config, map),
+        None => carmen::extract_with(&log, ExtractConfig::travelling(), map),
+    }
 }
 
 /// The tracked decisions with map text `map_text`, scored on the frames `keep` accepts.
@@ -165,6 +211,91 @@ fn check(name: &str, s: &Score, (decided, right, wrong): (f64, f64, f64)) {
     assert!(s.confidently_wrong_rate() <= wrong, "{name}: {s}");
 }
 
+/// Prints one row of the table.
+fn row(name: &str, protocol: &str, s: &Score) {
+    eprintln!(
+        "| {name} | {protocol} | {} | {:.1} % | {:.1} % | {:.1} % |",
+        s.at_place,
+        100.0 * s.decided_rate(),
+        100.0 * s.right_of_decided(),
+        100.0 * s.confidently_wrong_rate()
+    );
+}
+
+/// The `rules/intel.lpl` rows: the committed surveyed map `map` on the same log, and re-surveyed
+/// on first visits, its later visits scored (`later`).
+fn intel_rows(
+    b: &Building,
+    IntelRows {
+        map,
+        same_log,
+        held_out,
+    }: IntelRows,
+    frames: &[FrameRecord],
+    labels: &[Option<String>],
+    later: &dyn Fn(usize) -> bool,
+) {
+    let text = repo(map);
+    let ast = parse_map(&text).expect("the map parses");
+    let same = score(&text, frames, labels, |_| true);
+    let rules = parse_rules(&repo("rules/intel.lpl")).expect("rules parse");
+    let cfg = SurveyConfig::default();
+    let fits = fit(
+        frames,
+        labels,
+        &links_from_rules(&rules),
+        Protocol::FirstVisits,
+        &cfg,
+    );
+    let first = write_params(&text, &ast, &fits).expect("written");
+    let held = score(&first, frames, labels, later);
+    row(b.name, "same log", &same);
+    row(b.name, "held out (later visits)", &held);
+    check(b.name, &same, same_log);
+    check(b.name, &held, held_out);
+}
+
+/// The `rules/laser.lpl` rows: the floor-plan map surveyed on the whole log and on first
+/// visits (later visits scored), and as drawn; the last also with the share of the scans
+/// outside every extent on which a place is asserted.
+fn laser_rows(
+    b: &Building,
+    frames: &[FrameRecord],
+    labels: &[Option<String>],
+    later: &dyn Fn(usize) -> bool,
+) {
+    let plan_text = repo(b.plan);
+    let plan_ast = parse_map(&plan_text).expect("the floor-plan map parses");
+    let laser = parse_rules(&repo("rules/laser.lpl")).expect("rules parse");
+    let links = links_from_rules(&laser);
+    let cfg = SurveyConfig::default();
+    let fits = fit(frames, labels, &links, Protocol::All, &cfg);
+    let all = write_params(&plan_text, &plan_ast, &fits).expect("written");
+    let (same_laser, _) = score_outside(&all, "rules/laser.lpl", None, frames, labels, |_| true);
+    let fits = fit(frames, labels, &links, Protocol::FirstVisits, &cfg);
+    let first = write_params(&plan_text, &plan_ast, &fits).expect("written");
+    let (held_laser, _) = score_outside(&first, "rules/laser.lpl", None, frames, labels, later);
+    row(b.name, "same log, rules/laser.lpl", &same_laser);
+    row(b.name, "held out, rules/laser.lpl", &held_laser);
+    check(b.name, &same_laser, b.same_log_laser);
+    check(b.name, &held_laser, b.held_out_laser);
+    let (plan, outside) =
+        score_outside(&plan_text, "rules/laser.lpl", None, frames, labels, |_| {
+            true
+        });
+    eprintln!(
+        "| {} | floor plan, no fitting | {} | {:.1} % | {:.1} % | {:.1} % | outside: {:.1} % |",
+        b.name,
+        plan.at_place,
+        100.0 * plan.decided_rate(),
+        100.0 * plan.right_of_decided(),
+        100.0 * plan.confidently_wrong_rate(),
+        100.0 * outside
+    );
+    check(b.plan, &plan, b.plan_figures);
+    assert!(outside <= b.plan_outside, "{}: outside {outside}", b.plan);
+}
+
 #[test]
 fn every_mapped_building_meets_its_locked_figures() {
     eprintln!("| building | protocol | scans | decided | right of decided | confidently wrong |");
@@ -174,77 +305,23 @@ fn every_mapped_building_meets_its_locked_figures() {
             eprintln!("SKIP {}: {} not found (set LPLACE_DATA)", b.name, b.log);
             continue;
         }
-        let text = repo(b.map);
-        let ast = parse_map(&text).expect("the map parses");
-        let map = Map::from_ast(&ast).expect("the map builds");
+        // Truth from the surveyed map's extents where there is one, else the floor plan's
+        // (the same extents: asserted through the axis and, below, the labels they give).
+        let plan_map = carmen::load_map(b.plan);
+        let map = b
+            .intel
+            .map_or_else(|| carmen::load_map(b.plan), |r| carmen::load_map(r.map));
+        assert_eq!(plan_map.axis_deg(), map.axis_deg(), "{}: same axis", b.plan);
         let frames = extract(b, &map);
         let labels: Vec<Option<String>> = frames
             .iter()
             .map(|f| f.truth.as_ref().and_then(|t| t.place.clone()))
             .collect();
-        let same = score(&text, &frames, &labels, |_| true);
-        let rules = parse_rules(&repo("rules/intel.lpl")).expect("rules parse");
-        let cfg = SurveyConfig::default();
-        let links = links_from_rules(&rules);
-        let fits = fit(&frames, &labels, &links, Protocol::FirstVisits, &cfg);
-        let first = write_params(&text, &ast, &fits).expect("written");
-        let visit = visits(&frames, &labels, cfg.visit_gap_m);
-        let held = score(&first, &frames, &labels, |k| {
-            visit.get(k).copied().flatten().is_some_and(|v| v > 0)
-        });
-        let plan_text = repo(b.plan);
-        let plan_ast = parse_map(&plan_text).expect("the floor-plan map parses");
-        let laser = parse_rules(&repo("rules/laser.lpl")).expect("rules parse");
-        let laser_links = links_from_rules(&laser);
-        let fits = fit(&frames, &labels, &laser_links, Protocol::All, &cfg);
-        let all = write_params(&plan_text, &plan_ast, &fits).expect("written");
-        let (same_laser, _) =
-            score_outside(&all, "rules/laser.lpl", None, &frames, &labels, |_| true);
-        let fits = fit(&frames, &labels, &laser_links, Protocol::FirstVisits, &cfg);
-        let first = write_params(&plan_text, &plan_ast, &fits).expect("written");
-        let (held_laser, _) =
-            score_outside(&first, "rules/laser.lpl", None, &frames, &labels, |k| {
-                visit.get(k).copied().flatten().is_some_and(|v| v > 0)
-            });
-        for (protocol, s) in [
-            ("same log", &same),
-            ("held out (later visits)", &held),
-            ("same log, rules/laser.lpl", &same_laser),
-            ("held out, rules/laser.lpl", &held_laser),
-        ] {
-            eprintln!(
-                "| {} | {protocol} | {} | {:.1} % | {:.1} % | {:.1} % |",
-                b.name,
-                s.at_place,
-                100.0 * s.decided_rate(),
-                100.0 * s.right_of_decided(),
-                100.0 * s.confidently_wrong_rate()
-            );
+        let visit = visits(&frames, &labels, SurveyConfig::default().visit_gap_m);
+        let later = |k: usize| visit.get(k).copied().flatten().is_some_and(|v| v > 0);
+        if let Some(intel) = b.intel {
+            intel_rows(b, intel, &frames, &labels, &later);
         }
-        check(b.name, &same, b.same_log);
-        check(b.name, &held, b.held_out);
-        check(b.name, &same_laser, b.same_log_laser);
-        check(b.name, &held_laser, b.held_out_laser);
-        let plan_map = carmen::load_map(b.plan);
-        assert_eq!(plan_map.axis_deg(), map.axis_deg(), "{}: same axis", b.plan);
-        let (plan, outside) = score_outside(
-            &plan_text,
-            "rules/laser.lpl",
-            None,
-            &frames,
-            &labels,
-            |_| true,
-        );
-        eprintln!(
-            "| {} | floor plan, no fitting | {} | {:.1} % | {:.1} % | {:.1} % | outside: {:.1} % |",
-            b.name,
-            plan.at_place,
-            100.0 * plan.decided_rate(),
-            100.0 * plan.right_of_decided(),
-            100.0 * plan.confidently_wrong_rate(),
-            100.0 * outside
-        );
-        check(b.plan, &plan, b.plan_figures);
-        assert!(outside <= b.plan_outside, "{}: outside {outside}", b.plan);
+        laser_rows(b, &frames, &labels, &later);
     }
 }

@@ -29,7 +29,13 @@ pub fn load_map(path: &str) -> Map {
 /// places from `map`'s extents and its axis, if it states one. A `.gz` log is decompressed as it
 /// is read.
 pub fn extract(log: &Path, config: &str, map: &Map) -> Vec<FrameRecord> {
-    let mut cfg = ExtractConfig::from_ron(&repo(config)).expect("extractor config");
+    let cfg = ExtractConfig::from_ron(&repo(config)).expect("extractor config");
+    extract_with(log, cfg, map)
+}
+
+/// [`extract`] with the extractor settings `cfg` (`ExtractConfig::travelling()`: what
+/// `lplace extract` uses without `--config`).
+pub fn extract_with(log: &Path, mut cfg: ExtractConfig, map: &Map) -> Vec<FrameRecord> {
     if let Some(axis) = map.axis_deg() {
         cfg.compass.axis_deg = axis;
     }
