@@ -1,0 +1,295 @@
+//! The place distribution of a step without evidence groups or a known region, from the tape's
+//! registers in two passes over the places (issue 16: at 10,000 places each pass over every
+//! place costs more than the few places a frame's gates evaluate).
+//!
+//! The first pass reads each place's support and exclusion, keeps the extremes of the supports
+//! and writes the place's own bound `t_k = min(1 − β_k, c)`, `c` the lowest cap of the set heads
+//! (`at_place(P) -> in_room(R)` at every place gives one head per room); the few members of that
+//! lowest head get their own caps after it (see `named_sets::constrain_heads`: a place's cap is
+//! the lowest among the heads that leave it out). The second pass is
+//! [`PlaceDistribution::finish_bounded`]: `π`, the height, `π'`, `N`, and the extremes the
+//! decision reads. Every column holds the bits of the separate passes (`fill_raw`, the heads,
+//! `finish`), and the decision is `decide`'s: `min` and `max` are exact and order-free on these
+//! degrees, which are never NaN nor `−0`. Allocates nothing.
+
+use super::compile::SetHead;
+use crate::logic::possibility::{Peaks, Top2};
+use crate::logic::{clamp_degree, Normalisation, PlaceDistribution};
+
+/// The member places of each set head, listed once at load time (a head's `PlaceSet` is a flag
+/// per place: walking it for a handful of members would read every place).
+#[derive(Debug, Clone)]
+pub(super) struct HeadMembers {
+    start: Vec<u32>,
+    places: Vec<u32>,
+}
+
+impl HeadMembers {
+    pub(super) fn new(heads: &[SetHead]) -> HeadMembers {
+        let mut start = Vec::with_capacity(heads.len() + 1);
+        let mut places = Vec::new();
+        start.push(0);
+        for h in heads {
+            places.extend(h.members.indices().map(|k| k as u32));
+            start.push(places.len() as u32);
+        }
+        HeadMembers { start, places }
+    }
+
+    fn of(&self, h: usize) -> &[u32] {
+        let (Some(&s), Some(&e)) = (self.start.get(h), self.start.get(h + 1)) else {
+            return &[];
+        };
+        self.places.get(s as usize..e as usize).unwrap_or(&[])
+    }
+}
+
+/// What a step reads the distribution from.
+pub(super) struct Inputs<'a> {
+    pub regs: &'a [f64],
+    pub support: &'a [u32],
+    pub exclusion: &'a [u32],
+    pub heads: &'a [SetHead],
+    pub members: &'a HeadMembers,
+}
+
+/// Scratch for the heads of positive degree, `(cap, head)`, sized at load time.
+#[derive(Debug, Clone, Default)]
+pub(super) struct HeadScratch {
+    plain: Vec<(f64, usize)>,
+    negated: Vec<(f64, usize)>,
+}
+
+impl HeadScratch {
+    pub(super) fn new(heads: usize) -> HeadScratch {
+        HeadScratch {
+            plain: Vec::with_capacity(heads),
+            negated: Vec::with_capacity(heads),
+        }
+    }
+}
+
+fn read(regs: &[f64], r: u32) -> f64 {
+    clamp_degree(regs.get(r as usize).copied().unwrap_or(0.0))
+}
+
+/// Fills `dist` from the registers (see the module docs) and returns the extremes the decision
+/// reads; `None`, touching nothing, when the register lists are not one per place (the
+/// separate passes then run).
+pub(super) fn fill(
+    dist: &mut PlaceDistribution,
+    inp: &Inputs<'_>,
+    scratch: &mut HeadScratch,
+    normalisation: Normalisation,
+) -> Option<Peaks> {
+    let n = dist.len();
+    let cols_ok = [dist.exclusion.len(), dist.possibility_raw.len()];
+    if inp.support.len() != n || inp.exclusion.len() != n || cols_ok != [n, n] {
+        return None;
+    }
+    sort_heads(inp, scratch);
+    let (c0, h0) = scratch.plain.first().copied().unwrap_or((1.0, usize::MAX));
+    let mut sup = Top2::EMPTY;
+    let mut t_max = f64::NEG_INFINITY;
+    let cols = dist.support.iter_mut().zip(&mut dist.exclusion);
+    let cols = cols.zip(&mut dist.possibility_raw);
+    let regs = inp.support.iter().zip(inp.exclusion);
+    for (k, (((s, e), t), (&rs, &re))) in cols.zip(regs).enumerate() {
+        (*s, *e) = (read(inp.regs, rs), read(inp.regs, re));
+        sup.push(k, *s);
+        *t = (1.0 - *e).min(c0);
+        t_max = t_max.max(*t);
+    }
+    // The lowest head's members: the lowest cap among the heads that leave them out (at least
+    // `c0`, so `t_max` only rises).
+    for &k in inp.members.of(h0) {
+        let k = k as usize;
+        let outside = scratch
+            .plain
+            .iter()
+            .skip(1)
+            .find(|&&(_, h)| inp.heads.get(h).is_some_and(|x| !x.members.contains(k)));
+        let cap = outside.map_or(1.0, |&(c, _)| c);
+        if let (Some(t), Some(&e)) = (dist.possibility_raw.get_mut(k), dist.exclusion.get(k)) {
+            *t = (1.0 - e).min(cap);
+            t_max = t_max.max(*t);
+        }
+    }
+    if !scratch.negated.is_empty() {
+        for &(cap, h) in &scratch.negated {
+            for &k in inp.members.of(h) {
+                if let Some(t) = dist.possibility_raw.get_mut(k as usize) {
+                    *t = t.min(cap);
+                }
+            }
+        }
+        // Lowered bounds: the maximum is read again.
+        t_max = dist
+            .possibility_raw
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max);
+    }
+    Some(dist.finish_bounded(sup, t_max, normalisation))
+}
+
+/// The heads of positive degree into `scratch`, `(1 − degree, head)`: the plain ones sorted by
+/// cap, the negated ones in head order. A head of degree 0 caps at 1, which changes nothing.
+fn sort_heads(inp: &Inputs<'_>, scratch: &mut HeadScratch) {
+    scratch.plain.clear();
+    scratch.negated.clear();
+    for (h, head) in inp.heads.iter().enumerate() {
+        let degree = read(inp.regs, head.reg);
+        if degree <= 0.0 {
+            continue;
+        }
+        let list = if head.negated {
+            &mut scratch.negated
+        } else {
+            &mut scratch.plain
+        };
+        list.push((1.0 - degree, h));
+    }
+    scratch.plain.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{query, Engine, Frame, OFFICE_RULES};
+    use crate::core::rng::SplitMix64;
+    use crate::logic::{decide, DecisionParams, PlaceSet};
+    use crate::sim::{large_map::lattice_office, SimConfig, Simulator};
+    use crate::syntax::diagnostic::SourceFile;
+
+    /// The office rules with the operators under test, and set heads of every kind: the rooms'
+    /// (`at_place(P_i) -> in_room(R_i)`), a negated room head, a region's and a negated one.
+    fn rules(rng: &mut SplitMix64) -> String {
+        let pick = |rng: &mut SplitMix64, xs: &[&'static str]| xs[rng.below(xs.len())];
+        let tnorm = pick(rng, &["min", "product", "lukasiewicz"]);
+        let imp = pick(rng, &["residuum", "min_mp"]);
+        let norm = pick(rng, &["min", "product"]);
+        let mut text: String = OFFICE_RULES
+            .lines()
+            .map(|l| match l.trim_start() {
+                t if t.starts_with("tnorm") => format!("tnorm = {tnorm};"),
+                t if t.starts_with("implication") => format!("implication = {imp};"),
+                t if t.starts_with("normalisation") => format!("normalisation = {norm};"),
+                _ => l.to_string(),
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+        text.push_str(
+            "\npercept e0(time);\npercept e1(time);\nregion G0 = {P0, P1, P2};\n\
+             |- (e0(t) -> !in_room(R0), 0.7);\n|- (e1(t) -> in_region(G0), 0.6);\n\
+             |- (walls(t) -> !in_region(G0), 0.3);\n",
+        );
+        text
+    }
+
+    /// A simulated frame with some percepts made hostile: missing, NaN, `−0`, out of range.
+    fn mangle(rng: &mut SplitMix64, f: &mut Frame) {
+        for s in 0..f.degree.len() {
+            match rng.below(12) {
+                0 => f.degree[s] = f64::NAN,
+                1 => f.degree[s] = -0.0,
+                2 => (f.degree[s], f.value[s]) = (0.0, f64::NAN),
+                3 => f.degree[s] = 1.5,
+                4 => f.degree[s] = rng.unit(),
+                5 => f.value[s] = f64::NAN,
+                _ => {}
+            }
+        }
+    }
+
+    /// The engine's columns, height, Inc and decision against the separate passes and
+    /// `decide` on the same registers, and its room and region degrees against `PlaceSet`'s.
+    fn check(e: &Engine, case: usize, step: usize) {
+        let mut plain = e.clone();
+        plain.separate_passes(None);
+        let logic = e.rules.logic;
+        let params = DecisionParams {
+            threshold: logic.threshold,
+            margin: logic.margin,
+        };
+        let (a, b) = (&e.dist, &plain.dist);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        let at = format!("case {case} step {step}");
+        assert_eq!(bits(&a.support), bits(&b.support), "{at}");
+        assert_eq!(bits(&a.exclusion), bits(&b.exclusion), "{at}");
+        assert_eq!(bits(&a.possibility_raw), bits(&b.possibility_raw), "{at}");
+        assert_eq!(bits(&a.possibility), bits(&b.possibility), "{at}");
+        assert_eq!(bits(&a.necessity), bits(&b.necessity), "{at}");
+        assert_eq!(a.height.to_bits(), b.height.to_bits(), "{at}");
+        assert_eq!(a.inconsistency.to_bits(), b.inconsistency.to_bits(), "{at}");
+        let want = format!("{:?}", decide(b, params));
+        assert_eq!(format!("{:?}", e.decision()), want, "{at}");
+        check_sets(e, &at);
+    }
+
+    /// Room and region degrees against [`PlaceSet::possibility`] and [`PlaceSet::necessity`].
+    fn check_sets(e: &Engine, at: &str) {
+        let pi = &e.dist.possibility;
+        let map = &e.map;
+        let rooms = (0..map.rooms().len()).map(|r| query::room_set(map, r));
+        let regions = e.rules.regions.iter();
+        let regions = regions.map(|(_, ks)| PlaceSet::from_indices(pi.len(), ks.iter().copied()));
+        for (sets, got) in [
+            (rooms.collect::<Vec<_>>(), e.rooms()),
+            (regions.collect(), e.regions()),
+        ] {
+            for (i, set) in sets.iter().enumerate() {
+                let (p, n) = (set.possibility(pi), set.necessity(pi));
+                assert_eq!(got.possibility[i].to_bits(), p.to_bits(), "{at} set {i}");
+                assert_eq!(got.necessity[i].to_bits(), n.to_bits(), "{at} set {i}");
+            }
+        }
+    }
+
+    #[test]
+    fn one_pass_distribution_is_the_separate_passes_bit_for_bit() {
+        let mut rng = SplitMix64::new(16);
+        let mut supported = 0;
+        for case in 0..40 {
+            let n = 3 + rng.below(120);
+            let text = lattice_office(n, case as u64);
+            let rules = rules(&mut rng);
+            let mut e = Engine::load(
+                &SourceFile::new("m.map", text.as_str()),
+                &SourceFile::new("r.lpl", rules.as_str()),
+            )
+            .expect("the generated map and rules load");
+            let cfg = SimConfig {
+                steps: 60,
+                seed: case as u64,
+                ..SimConfig::default()
+            };
+            let records: Vec<_> = Simulator::for_engine(&e, cfg).collect();
+            let table = e.percepts().clone();
+            let known = PlaceSet::from_indices(n, (0..n).filter(|k| k % 3 != 1));
+            for (step, rec) in records.iter().enumerate() {
+                let mut f = e.new_frame();
+                rec.fill(&table, &mut f, &mut Vec::new());
+                for name in ["e0", "e1"] {
+                    if let Some(s) = table.slot(name, &[]) {
+                        f.set(s, rng.unit(), None);
+                    }
+                }
+                if rng.below(3) == 0 {
+                    mangle(&mut rng, &mut f);
+                }
+                if rng.below(8) == 0 {
+                    // The separate passes, then the fused ones again: rooms follow each step.
+                    e.step_within(&f, Some(&known));
+                    check_sets(&e, &format!("case {case} step {step} (known)"));
+                }
+                e.step(&f);
+                supported += usize::from(e.dist.support.iter().any(|&s| s > 0.0));
+                // Reading the rooms only now and then: a later read must see its own step.
+                if rng.below(2) == 0 {
+                    check(&e, case, step);
+                }
+            }
+        }
+        assert!(supported > 300, "only {supported} frames supported a place");
+    }
+}
