@@ -13,7 +13,7 @@
 //! degrees, which are never NaN nor `−0`. Allocates nothing.
 
 use super::compile::SetHead;
-use crate::logic::possibility::{Peaks, Top2};
+use crate::logic::possibility::{higher, lower, Peaks, Top2};
 use crate::logic::{clamp_degree, Normalisation, PlaceDistribution};
 
 /// The member places of each set head, listed once at load time (a head's `PlaceSet` is a flag
@@ -97,8 +97,8 @@ pub(super) fn fill(
     for (k, (((s, e), t), (&rs, &re))) in cols.zip(regs).enumerate() {
         (*s, *e) = (read(inp.regs, rs), read(inp.regs, re));
         sup.push(k, *s);
-        *t = (1.0 - *e).min(c0);
-        t_max = t_max.max(*t);
+        *t = lower(1.0 - *e, c0);
+        t_max = higher(t_max, *t);
     }
     // The lowest head's members: the lowest cap among the heads that leave them out (at least
     // `c0`, so `t_max` only rises).
@@ -111,8 +111,8 @@ pub(super) fn fill(
             .find(|&&(_, h)| inp.heads.get(h).is_some_and(|x| !x.members.contains(k)));
         let cap = outside.map_or(1.0, |&(c, _)| c);
         if let (Some(t), Some(&e)) = (dist.possibility_raw.get_mut(k), dist.exclusion.get(k)) {
-            *t = (1.0 - e).min(cap);
-            t_max = t_max.max(*t);
+            *t = lower(1.0 - e, cap);
+            t_max = higher(t_max, *t);
         }
     }
     if !scratch.negated.is_empty() {
