@@ -4,9 +4,10 @@
 //! output registers are the place supports. [`Engine::step`] evaluates the tape on one
 //! [`Frame`] (regrouped by instruction kind, `columns`, one loop per kind and level; where a
 //! similarity of bias 0 gates the rules, only the places its reading can match, `gates`), builds
-//! the place distribution (`logic::possibility`) and decides
-//! (`logic::decision`) — into buffers allocated at load time, so a step allocates nothing and
-//! cannot panic on any frame. The interpreter (`interpret`) is the slow reference the tape is
+//! the place distribution (`logic::possibility`; in two passes over the places, `distribution`)
+//! and decides (`logic::decision`) — into buffers allocated at load time, so a step allocates
+//! nothing and cannot panic on any frame. Room and region degrees are computed when first read
+//! after a step (`named_sets`). The interpreter (`interpret`) is the slow reference the tape is
 //! tested against. This module depends on `syntax`, `map` and `logic`; nothing in those depends
 //! on it.
 //!
