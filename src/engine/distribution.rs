@@ -2,8 +2,9 @@
 //! registers in two passes over the places (issue 16: at 10,000 places each pass over every
 //! place costs more than the few places a frame's gates evaluate).
 //!
-//! The first pass reads each place's support and exclusion, keeps the extremes of the supports
-//! and writes the place's own bound `t_k = min(1 − β_k, c)`, `c` the lowest cap of the set heads
+//! The first pass reads each place's support and exclusion (the exclusion from a table of the
+//! distinct exclusion registers, `Exclusions`), keeps the extremes of the supports and writes
+//! the place's own bound `t_k = min(1 − β_k, c)`, `c` the lowest cap of the set heads
 //! (`at_place(P) -> in_room(R)` at every place gives one head per room); the few members of that
 //! lowest head get their own caps after it (see `named_sets::constrain_heads`: a place's cap is
 //! the lowest among the heads that leave it out). The second pass is
@@ -48,9 +49,57 @@ impl HeadMembers {
 pub(super) struct Inputs<'a> {
     pub regs: &'a [f64],
     pub support: &'a [u32],
-    pub exclusion: &'a [u32],
     pub heads: &'a [SetHead],
     pub members: &'a HeadMembers,
+}
+
+/// The places' exclusion registers, each distinct one listed once, with its degree and the
+/// bound it gives in the current step: negative evidence is often one register per wall
+/// configuration, shared by thousands of places, so the first pass looks each place's up in a
+/// table of a few entries rather than clamping a register of its own.
+#[derive(Debug, Clone)]
+pub(super) struct Exclusions {
+    regs: Vec<u32>,
+    of_place: Vec<u32>,
+    degree: Vec<f64>,
+    bound: Vec<f64>,
+}
+
+impl Exclusions {
+    /// From each place's exclusion register.
+    pub(super) fn new(exclusion: &[u32]) -> Exclusions {
+        let mut index = std::collections::HashMap::new();
+        let mut regs = Vec::new();
+        let of_place = exclusion
+            .iter()
+            .map(|&r| {
+                *index.entry(r).or_insert_with(|| {
+                    regs.push(r);
+                    regs.len() as u32 - 1
+                })
+            })
+            .collect();
+        let m = regs.len();
+        Exclusions {
+            regs,
+            of_place,
+            degree: vec![0.0; m],
+            bound: vec![1.0; m],
+        }
+    }
+
+    /// Each distinct register's degree and bound `min(1 − β, c0)`; their maximum, which is the
+    /// maximum over the places, since every entry is some place's.
+    fn read(&mut self, regs: &[f64], c0: f64) -> f64 {
+        let mut t_max = f64::NEG_INFINITY;
+        let cols = self.degree.iter_mut().zip(&mut self.bound);
+        for ((e, t), &r) in cols.zip(&self.regs) {
+            *e = read(regs, r);
+            *t = lower(1.0 - *e, c0);
+            t_max = higher(t_max, *t);
+        }
+        t_max
+    }
 }
 
 /// Scratch for the heads of positive degree, `(cap, head)`, sized at load time.
@@ -80,25 +129,27 @@ pub(super) fn fill(
     dist: &mut PlaceDistribution,
     inp: &Inputs<'_>,
     scratch: &mut HeadScratch,
+    ex: &mut Exclusions,
     normalisation: Normalisation,
 ) -> Option<Peaks> {
     let n = dist.len();
     let cols_ok = [dist.exclusion.len(), dist.possibility_raw.len()];
-    if inp.support.len() != n || inp.exclusion.len() != n || cols_ok != [n, n] {
+    if inp.support.len() != n || ex.of_place.len() != n || cols_ok != [n, n] {
         return None;
     }
     sort_heads(inp, scratch);
     let (c0, h0) = scratch.plain.first().copied().unwrap_or((1.0, usize::MAX));
     let mut sup = Top2::EMPTY;
-    let mut t_max = f64::NEG_INFINITY;
+    let mut t_max = ex.read(inp.regs, c0);
     let cols = dist.support.iter_mut().zip(&mut dist.exclusion);
     let cols = cols.zip(&mut dist.possibility_raw);
-    let regs = inp.support.iter().zip(inp.exclusion);
-    for (k, (((s, e), t), (&rs, &re))) in cols.zip(regs).enumerate() {
-        (*s, *e) = (read(inp.regs, rs), read(inp.regs, re));
+    let regs = inp.support.iter().zip(&ex.of_place);
+    for (k, (((s, e), t), (&rs, &j))) in cols.zip(regs).enumerate() {
+        *s = read(inp.regs, rs);
         sup.push(k, *s);
-        *t = lower(1.0 - *e, c0);
-        t_max = higher(t_max, *t);
+        // Every index is a table entry (made from these places); the defaults are never read.
+        *e = ex.degree.get(j as usize).copied().unwrap_or(0.0);
+        *t = ex.bound.get(j as usize).copied().unwrap_or(1.0);
     }
     // The lowest head's members: the lowest cap among the heads that leave them out (at least
     // `c0`, so `t_max` only rises).

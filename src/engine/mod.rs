@@ -131,6 +131,8 @@ pub struct Engine {
     head_order: Vec<(f64, usize)>,
     /// Scratch for [`distribution::fill`].
     head_scratch: distribution::HeadScratch,
+    /// The distinct exclusion registers, for [`distribution::fill`].
+    exclusions: distribution::Exclusions,
     decision: Decision,
     sanitised: Sanitised,
 }
@@ -207,6 +209,7 @@ impl Engine {
             head_members: distribution::HeadMembers::new(&compiled.set_heads),
             head_order: Vec::with_capacity(compiled.set_heads.len()),
             head_scratch: distribution::HeadScratch::new(compiled.set_heads.len()),
+            exclusions: distribution::Exclusions::new(&compiled.exclusion),
             decision: Decision::Disoriented(crate::logic::Disoriented::NoPlaces),
             sanitised: Sanitised::default(),
             map,
@@ -287,12 +290,11 @@ impl Engine {
             let inputs = distribution::Inputs {
                 regs: &self.regs,
                 support: &c.support,
-                exclusion: &c.exclusion,
                 heads: &c.set_heads,
                 members: &self.head_members,
             };
-            let (d, s) = (&mut self.dist, &mut self.head_scratch);
-            if let Some(peaks) = distribution::fill(d, &inputs, s, logic.normalisation) {
+            let (d, s, x) = (&mut self.dist, &mut self.head_scratch, &mut self.exclusions);
+            if let Some(peaks) = distribution::fill(d, &inputs, s, x, logic.normalisation) {
                 self.decision = decide_with_peaks(&self.dist, params, peaks);
                 return self.decision;
             }
