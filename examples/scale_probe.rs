@@ -1,5 +1,7 @@
 //! Splits a tracked frame at N generated places into `Engine::step` and the graph tracker's
-//! step (issue 16): `cargo run --release --example scale_probe -- 10000 400`.
+//! step (issue 16): `cargo run --release --example scale_probe -- 10000 800`. A third argument
+//! `engine` steps the engine alone (no tracker), e.g. under a profiler: the figures are then
+//! those of `Engine::step` over the second half of the frames.
 
 use lplace::engine::tracker::{PlaceTracker, TrackerConfig};
 use lplace::engine::Engine;
@@ -16,6 +18,7 @@ fn main() {
             .unwrap_or(d)
     };
     let (n, steps) = (arg(1, 1000) as usize, arg(2, 400));
+    let engine_only = std::env::args().nth(3).is_some_and(|a| a == "engine");
     let text = lplace::sim::large_map::lattice_office(n, 1);
     let t0 = Instant::now();
     let rules = include_str!("../rules/office.lpl");
@@ -39,6 +42,24 @@ fn main() {
             (f, rec.odometry.unwrap_or_default().to_si())
         })
         .collect();
+    let k = frames.len().max(1) as f64;
+    if engine_only {
+        let (mut late, mut decided) = (0.0, 0);
+        for (i, (f, _)) in frames.iter().enumerate() {
+            let a = Instant::now();
+            decided += usize::from(engine.step(f).place().is_some());
+            if 2 * i >= frames.len() {
+                late += a.elapsed().as_secs_f64();
+            }
+        }
+        println!(
+            "n {n}: load {:.3} s; Engine::step alone, second half: {:.1} µs per frame; decided {decided}/{}",
+            load.as_secs_f64(),
+            2e6 * late / k,
+            frames.len()
+        );
+        return;
+    }
     let logic = engine.rules().logic;
     let params = DecisionParams {
         threshold: logic.threshold,
@@ -48,8 +69,8 @@ fn main() {
     let mut tracker = PlaceTracker::new(engine.map(), params, TrackerConfig::default());
     let build = t1.elapsed();
     let (mut e_time, mut t_time, mut decided) = (0.0, 0.0, 0);
-    let mut late = 0.0;
-    for (k, (f, odo)) in frames.iter().enumerate() {
+    let (mut e_late, mut t_late) = (0.0, 0.0);
+    for (i, (f, odo)) in frames.iter().enumerate() {
         let a = Instant::now();
         engine.step(f);
         let b = Instant::now();
@@ -59,20 +80,20 @@ fn main() {
                 .place()
                 .is_some(),
         );
-        e_time += (b - a).as_secs_f64();
-        t_time += b.elapsed().as_secs_f64();
-        if 2 * k >= frames.len() {
-            late += b.elapsed().as_secs_f64();
+        let (e, t) = ((b - a).as_secs_f64(), b.elapsed().as_secs_f64());
+        (e_time, t_time) = (e_time + e, t_time + t);
+        if 2 * i >= frames.len() {
+            (e_late, t_late) = (e_late + e, t_late + t);
         }
     }
-    let k = frames.len().max(1) as f64;
     println!(
-        "n {n}: load {:.3} s, tracker built {:.3} s; per frame: engine {:.1} µs, tracker {:.1} µs (second half: {:.1} µs); decided {decided}/{}",
+        "n {n}: load {:.3} s, tracker built {:.3} s; per frame: engine {:.1} µs, tracker {:.1} µs (second half: engine {:.1} µs, tracker {:.1} µs); decided {decided}/{}",
         load.as_secs_f64(),
         build.as_secs_f64(),
         1e6 * e_time / k,
         1e6 * t_time / k,
-        2e6 * late / k,
+        2e6 * e_late / k,
+        2e6 * t_late / k,
         frames.len()
     );
 }

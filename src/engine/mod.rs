@@ -4,9 +4,10 @@
 //! output registers are the place supports. [`Engine::step`] evaluates the tape on one
 //! [`Frame`] (regrouped by instruction kind, `columns`, one loop per kind and level; where a
 //! similarity of bias 0 gates the rules, only the places its reading can match, `gates`), builds
-//! the place distribution (`logic::possibility`) and decides
-//! (`logic::decision`) — into buffers allocated at load time, so a step allocates nothing and
-//! cannot panic on any frame. The interpreter (`interpret`) is the slow reference the tape is
+//! the place distribution (`logic::possibility`; in two passes over the places, `distribution`)
+//! and decides (`logic::decision`) — into buffers allocated at load time, so a step allocates
+//! nothing and cannot panic on any frame. Room and region degrees are computed when first read
+//! after a step (`named_sets`). The interpreter (`interpret`) is the slow reference the tape is
 //! tested against. This module depends on `syntax`, `map` and `logic`; nothing in those depends
 //! on it.
 //!
@@ -27,6 +28,7 @@
 
 pub mod columns;
 pub mod compile;
+mod distribution;
 pub mod frame;
 pub mod gates;
 pub mod grid_tracker;
@@ -43,13 +45,15 @@ pub use frame::{Frame, PerceptInstance, PerceptSlot, PerceptTable};
 pub use outcome::Outcome;
 pub use query::QueryError;
 
+use crate::logic::decision::decide_with_peaks;
 use crate::logic::{clamp_degree, decide, Decision, DecisionParams, PlaceDistribution, PlaceSet};
 use crate::map::Map;
 use crate::rules::{check_map_against_rules, check_rules, RuleSet};
 use crate::syntax::diagnostic::{Diagnostic, SourceFile};
 use crate::syntax::{parse_map, parse_rules};
-use named_sets::{NamedSets, Targets};
+use named_sets::NamedSets;
 use serde::{Deserialize, Serialize};
+use std::sync::OnceLock;
 
 /// The bundled example map (paper 003's office).
 pub const OFFICE_MAP: &str = include_str!("../../maps/office.map");
@@ -114,22 +118,23 @@ pub struct Engine {
     dist: PlaceDistribution,
     /// One distribution per evidence group (empty without `group` blocks).
     group_dists: Vec<PlaceDistribution>,
-    rooms: RoomDegrees,
-    regions: RoomDegrees,
+    /// The room and region degrees of the last step, computed when first read: the 2,500
+    /// rooms of a 10,000-place map cost a step as much as its tape, and a tracked run reads
+    /// none of them.
+    rooms: OnceLock<RoomDegrees>,
+    regions: OnceLock<RoomDegrees>,
     room_sets: NamedSets,
     region_sets: NamedSets,
+    /// Each set head's member places.
+    head_members: distribution::HeadMembers,
     /// Scratch for [`named_sets::constrain_heads`], as long as the set heads.
     head_order: Vec<(f64, usize)>,
+    /// Scratch for [`distribution::fill`].
+    head_scratch: distribution::HeadScratch,
+    /// The distinct exclusion registers, for [`distribution::fill`].
+    exclusions: distribution::Exclusions,
     decision: Decision,
     sanitised: Sanitised,
-}
-
-fn degrees(n: usize) -> RoomDegrees {
-    RoomDegrees {
-        support: vec![0.0; n],
-        possibility: vec![1.0; n],
-        necessity: vec![0.0; n],
-    }
 }
 
 impl Engine {
@@ -197,11 +202,14 @@ impl Engine {
             regs: vec![0.0; compiled.tape.len()],
             dist: PlaceDistribution::new(n),
             group_dists: vec![PlaceDistribution::new(n); groups],
-            rooms: degrees(map.rooms().len()),
-            regions: degrees(rules.regions.len()),
+            rooms: OnceLock::new(),
+            regions: OnceLock::new(),
             room_sets,
             region_sets,
+            head_members: distribution::HeadMembers::new(&compiled.set_heads),
             head_order: Vec::with_capacity(compiled.set_heads.len()),
+            head_scratch: distribution::HeadScratch::new(compiled.set_heads.len()),
+            exclusions: distribution::Exclusions::new(&compiled.exclusion),
             decision: Decision::Disoriented(crate::logic::Disoriented::NoPlaces),
             sanitised: Sanitised::default(),
             map,
@@ -270,6 +278,35 @@ impl Engine {
             (None, Some(c)) => c.eval(&self.compiled.tape, frame, &mut self.regs),
             (None, None) => self.compiled.tape.eval(frame, &mut self.regs),
         }
+        self.rooms = OnceLock::new();
+        self.regions = OnceLock::new();
+        let logic = self.rules.logic;
+        let params = DecisionParams {
+            threshold: logic.threshold,
+            margin: logic.margin,
+        };
+        if self.group_dists.is_empty() && known.is_none() {
+            let c = &self.compiled;
+            let inputs = distribution::Inputs {
+                regs: &self.regs,
+                support: &c.support,
+                heads: &c.set_heads,
+                members: &self.head_members,
+            };
+            let (d, s, x) = (&mut self.dist, &mut self.head_scratch, &mut self.exclusions);
+            if let Some(peaks) = distribution::fill(d, &inputs, s, x, logic.normalisation) {
+                self.decision = decide_with_peaks(&self.dist, params, peaks);
+                return self.decision;
+            }
+        }
+        self.separate_passes(known);
+        self.decision = decide(&self.dist, params);
+        self.decision
+    }
+
+    /// The distribution pass by pass: supports, `π`, the set heads or the evidence groups, the
+    /// known region, the normalisation.
+    fn separate_passes(&mut self, known: Option<&PlaceSet>) {
         let read =
             |regs: &[f64], r: u32| clamp_degree(regs.get(r as usize).copied().unwrap_or(0.0));
         for (k, &r) in self.compiled.support.iter().enumerate() {
@@ -278,7 +315,6 @@ impl Engine {
         for (k, &r) in self.compiled.exclusion.iter().enumerate() {
             self.dist.exclusion[k] = read(&self.regs, r);
         }
-        let logic = self.rules.logic;
         if self.group_dists.is_empty() {
             self.dist.fill_raw();
             let regs = &self.regs;
@@ -295,20 +331,7 @@ impl Engine {
         if let Some(a) = known {
             self.dist.condition(a);
         }
-        self.dist.finish(logic.normalisation);
-        let (d, regs, c) = (&self.dist, &self.regs, &self.compiled);
-        self.room_sets
-            .update(d, regs, &c.rooms, targets(&mut self.rooms));
-        self.region_sets
-            .update(d, regs, &c.regions, targets(&mut self.regions));
-        self.decision = decide(
-            &self.dist,
-            DecisionParams {
-                threshold: logic.threshold,
-                margin: logic.margin,
-            },
-        );
-        self.decision
+        self.dist.finish(self.rules.logic.normalisation);
     }
 
     fn sanitise(&mut self, frame: &Frame) {
@@ -357,14 +380,18 @@ impl Engine {
         &self.dist
     }
 
-    /// Room degrees of the last step.
+    /// Room degrees of the last step (computed when first asked for after a step).
     pub fn rooms(&self) -> &RoomDegrees {
-        &self.rooms
+        self.rooms
+            .get_or_init(|| (self.room_sets).degrees(&self.dist, &self.regs, &self.compiled.rooms))
     }
 
-    /// Degrees of the declared regions in the last step (in `rules().regions` order).
+    /// Degrees of the declared regions in the last step (in `rules().regions` order; computed
+    /// when first asked for after a step).
     pub fn regions(&self) -> &RoomDegrees {
-        &self.regions
+        self.regions.get_or_init(|| {
+            (self.region_sets).degrees(&self.dist, &self.regs, &self.compiled.regions)
+        })
     }
 
     /// The unnormalised distribution of each evidence group in the last step (empty without
@@ -414,14 +441,5 @@ impl Engine {
     /// A named, serialisable summary of the last step.
     pub fn outcome(&self) -> Outcome {
         Outcome::of(self)
-    }
-}
-
-/// The slices of `d` that [`NamedSets::update`] fills.
-fn targets(d: &mut RoomDegrees) -> Targets<'_> {
-    Targets {
-        support: &mut d.support,
-        possibility: &mut d.possibility,
-        necessity: &mut d.necessity,
     }
 }

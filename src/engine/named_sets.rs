@@ -1,35 +1,29 @@
 //! The named sets of places (rooms, regions) in each step — their heads applied to the raw
-//! distribution, their Π and N read after it — in time that grows with the sets' sizes rather
-//! than with `sets × places` (issue 16: a 10,000-place map has 2,500 rooms).
+//! distribution, their Π and N read after it (when the step's room or region degrees are first
+//! asked for) — in time that grows with the sets' sizes rather than with `sets × places`
+//! (issue 16: a 10,000-place map has 2,500 rooms).
 //!
 //! `Π(S) = max_{k ∈ S} π_k` reads the members only. `N(S) = 1 − max_{k ∉ S} π_k` reads the
 //! `K` highest places of the step (`K` one more than the largest small set): the first of them
 //! outside `S` is the highest place outside `S`. Sets larger than [`SMALL`] are scanned whole.
 //! Both select a maximum, so the results are exactly [`PlaceSet::possibility`] and
-//! [`PlaceSet::necessity`] (NaNs ignored, as `f64::max` does there). `update` allocates nothing.
+//! [`PlaceSet::necessity`] (NaNs ignored, as `f64::max` does there). `degrees` allocates its
+//! result and the top places; `constrain_heads` allocates nothing.
 
 use super::compile::SetHead;
+use super::RoomDegrees;
 use crate::logic::{clamp_degree, PlaceDistribution, PlaceSet};
 
 /// Largest set whose necessity is read from the top places.
 const SMALL: usize = 32;
 
-/// The named sets with their members listed, and a buffer for the top places.
+/// The named sets with their members listed.
 #[derive(Debug, Clone)]
 pub(super) struct NamedSets {
     sets: Vec<PlaceSet>,
     members: Vec<Vec<usize>>,
-    /// The `k` highest `(π, place)` of the step, highest first.
-    top: Vec<(f64, usize)>,
+    /// How many of the highest places `N` of a small set may read: one more than the largest.
     k: usize,
-}
-
-/// Support (from the rules), Π and N of each named set, in its declaration order.
-#[derive(Debug)]
-pub(super) struct Targets<'a> {
-    pub support: &'a mut [f64],
-    pub possibility: &'a mut [f64],
-    pub necessity: &'a mut [f64],
 }
 
 impl NamedSets {
@@ -41,26 +35,26 @@ impl NamedSets {
             .filter(|&m| m <= SMALL)
             .max()
             .map_or(0, |m| m + 1);
-        NamedSets {
-            sets,
-            members,
-            top: Vec::with_capacity(k + 1),
-            k,
-        }
+        NamedSets { sets, members, k }
     }
 
-    /// Fills `out` from `dist` (normalised) and the support registers `regs[support[i]]`.
-    pub(super) fn update(
-        &mut self,
+    /// Support (from the registers `regs[support[i]]`), Π and N of each set under `dist`
+    /// (normalised).
+    pub(super) fn degrees(
+        &self,
         dist: &PlaceDistribution,
         regs: &[f64],
         support: &[u32],
-        out: Targets<'_>,
-    ) {
+    ) -> RoomDegrees {
         let pi = &dist.possibility;
-        self.fill_top(pi);
-        let sets = self.sets.iter().zip(&self.members).enumerate();
-        for (i, (set, members)) in sets {
+        let top = self.top(pi);
+        let n = self.sets.len();
+        let mut out = RoomDegrees {
+            support: Vec::with_capacity(n),
+            possibility: Vec::with_capacity(n),
+            necessity: Vec::with_capacity(n),
+        };
+        for (i, (set, members)) in self.sets.iter().zip(&self.members).enumerate() {
             let reg = support.get(i).copied().unwrap_or(u32::MAX);
             let s = clamp_degree(regs.get(reg as usize).copied().unwrap_or(0.0));
             let p = members
@@ -68,36 +62,35 @@ impl NamedSets {
                 .filter_map(|&k| pi.get(k).copied())
                 .fold(0.0, f64::max);
             let n = if members.len() <= SMALL {
-                let outside = self.top.iter().find(|&&(_, k)| !set.contains(k));
+                // The member list, not the set's flag per place: one small array per set.
+                let outside = top.iter().find(|&&(_, k)| !members.contains(&k));
                 1.0 - outside.map_or(0.0, |&(v, _)| v)
             } else {
                 set.necessity(pi)
             };
-            if let (Some(a), Some(b), Some(c)) = (
-                out.support.get_mut(i),
-                out.possibility.get_mut(i),
-                out.necessity.get_mut(i),
-            ) {
-                (*a, *b, *c) = (s, p, n);
-            }
+            out.support.push(s);
+            out.possibility.push(p);
+            out.necessity.push(n);
         }
+        out
     }
 
     /// The `k` highest places, highest first (ties in any order: only the values are read);
     /// NaN places are left out, as `f64::max` leaves them out of a maximum.
-    fn fill_top(&mut self, pi: &[f64]) {
-        self.top.clear();
+    fn top(&self, pi: &[f64]) -> Vec<(f64, usize)> {
+        let mut top = Vec::with_capacity(self.k + 1);
         if self.k == 0 {
-            return;
+            return top;
         }
         for (j, &v) in pi.iter().enumerate() {
-            if v.is_nan() || (self.top.len() == self.k && self.top[self.k - 1].0 >= v) {
+            if v.is_nan() || (top.len() == self.k && top[self.k - 1].0 >= v) {
                 continue;
             }
-            let at = self.top.partition_point(|&(w, _)| w >= v);
-            self.top.insert(at, (v, j));
-            self.top.truncate(self.k);
+            let at = top.partition_point(|&(w, _)| w >= v);
+            top.insert(at, (v, j));
+            top.truncate(self.k);
         }
+        top
     }
 }
 

@@ -22,7 +22,7 @@
 //! with a single place, cases 3 and 5 report [`Disoriented::Inconsistent`] instead, since there is
 //! no other place to be close to.
 
-use super::possibility::PlaceDistribution;
+use super::possibility::{Peaks, PlaceDistribution};
 use serde::{Deserialize, Serialize};
 
 /// How far below a threshold (or above a margin) a computed degree may fall and still count as
@@ -122,12 +122,36 @@ fn highest(key: &[f64], support: &[f64], start: usize, skip: usize) -> usize {
 
 /// Decides from an up-to-date distribution, as the module docs describe.
 pub fn decide(d: &PlaceDistribution, p: DecisionParams) -> Decision {
-    let n = d.len();
-    if n == 0 {
+    if d.is_empty() {
         return Decision::Disoriented(Disoriented::NoPlaces);
     }
     let best = highest(&d.necessity, &d.support, 0, usize::MAX);
-    let nb = d.necessity[best];
+    decide_from(d, p, best, || d.support.iter().copied().fold(0.0, f64::max))
+}
+
+/// [`decide`] for a distribution whose columns were written by
+/// [`PlaceDistribution::finish_bounded`], which saw the extremes its searches look for.
+pub(crate) fn decide_with_peaks(
+    d: &PlaceDistribution,
+    p: DecisionParams,
+    peaks: Peaks,
+) -> Decision {
+    if d.is_empty() {
+        return Decision::Disoriented(Disoriented::NoPlaces);
+    }
+    decide_from(d, p, peaks.most_necessary(), || peaks.max_support())
+}
+
+/// The decision, given the place of highest necessity `best` (ties: higher support, then lower
+/// index) and the highest support (only compared with the threshold), over `n ≥ 1` places.
+fn decide_from(
+    d: &PlaceDistribution,
+    p: DecisionParams,
+    best: usize,
+    max_support: impl FnOnce() -> f64,
+) -> Decision {
+    let n = d.len();
+    let nb = d.necessity.get(best).copied().unwrap_or(0.0);
     let inc = d.inconsistency;
     if reaches(nb, p.threshold) && exceeds(nb - inc, p.margin) {
         return Decision::Place {
@@ -138,11 +162,10 @@ pub fn decide(d: &PlaceDistribution, p: DecisionParams) -> Decision {
     if reaches(inc, p.threshold) {
         return Decision::Disoriented(Disoriented::Inconsistent { inconsistency: inc });
     }
-    let max_support = d.support.iter().copied().fold(0.0, f64::max);
-    if !reaches(nb, p.threshold) && !reaches(max_support, p.threshold) {
+    if !reaches(nb, p.threshold) && !reaches(max_support(), p.threshold) {
         return Decision::Disoriented(Disoriented::NothingAboveThreshold {
             best,
-            support: d.support[best],
+            support: d.support.get(best).copied().unwrap_or(0.0),
         });
     }
     if n == 1 {

@@ -57,39 +57,77 @@ pub struct PlaceDistribution {
 }
 
 /// Index and value of the largest and the index-excluding second largest entries.
-#[derive(Clone, Copy)]
-struct Top2 {
-    best: usize,
-    first: f64,
-    second: f64,
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Top2 {
+    pub(crate) best: usize,
+    pub(crate) first: f64,
+    pub(crate) second: f64,
 }
 
 impl Top2 {
+    /// Nothing seen yet.
+    pub(crate) const EMPTY: Top2 = Top2 {
+        best: usize::MAX,
+        first: f64::NEG_INFINITY,
+        second: f64::NEG_INFINITY,
+    };
+
     /// Over `values`, with `f` mapping each entry; ties keep the lowest index as `best`.
     fn max_of(values: &[f64], f: impl Fn(f64) -> f64) -> Top2 {
-        let mut t = Top2 {
-            best: usize::MAX,
-            first: f64::NEG_INFINITY,
-            second: f64::NEG_INFINITY,
-        };
+        let mut t = Top2::EMPTY;
         for (k, &v) in values.iter().enumerate() {
-            let v = f(v);
-            if v > t.first {
-                t.second = t.first;
-                t.first = v;
-                t.best = k;
-            } else if v > t.second {
-                t.second = v;
-            }
+            t.push(k, f(v));
         }
         t
+    }
+
+    /// Entry `k` of value `v`; entries pushed in ascending `k` keep the lowest index on ties.
+    #[inline]
+    pub(crate) fn push(&mut self, k: usize, v: f64) {
+        if v > self.first {
+            self.second = self.first;
+            self.first = v;
+            self.best = k;
+        } else if v > self.second {
+            self.second = v;
+        }
     }
 
     /// `1 − max(0, max_{j≠k} v_j)` for every `k` but `best`, and for `best` (an empty max read
     /// as 0): the complement a place's "all the others" takes, computed once per pass.
     #[inline]
-    fn complements(&self) -> (f64, f64) {
+    pub(crate) fn complements(&self) -> (f64, f64) {
         (1.0 - self.first.max(0.0), 1.0 - self.second.max(0.0))
+    }
+}
+
+/// The extremes [`PlaceDistribution::finish_bounded`] saw while writing the columns: enough to
+/// answer the decision's searches over every place without another pass.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Peaks {
+    /// Of `support`.
+    pub(crate) support: Top2,
+    /// Of `possibility` (`π'`).
+    pub(crate) possibility: Top2,
+}
+
+impl Peaks {
+    /// The place of highest necessity, ties to the higher support, then to the lower index
+    /// (what `decide` searches for). Every necessity is `1 − max π'` but the most possible
+    /// place's, `1 − second π'`, which is at least as high: that place when it is higher, else
+    /// all are equal and the support decides — the first place of highest support.
+    pub(crate) fn most_necessary(&self) -> usize {
+        let (all, but_best) = self.possibility.complements();
+        if but_best > all {
+            self.possibility.best
+        } else {
+            self.support.best
+        }
+    }
+
+    /// The highest support, or 0 (`max(0, max_k α_k)`).
+    pub(crate) fn max_support(&self) -> f64 {
+        self.support.first.max(0.0)
     }
 }
 
@@ -206,6 +244,11 @@ impl PlaceDistribution {
             }
         }
         let pos = Top2::max_of(&self.possibility, |p| p);
+        self.fill_necessity(pos);
+    }
+
+    /// `N` from the extremes of `π'`: `1 − max π'` everywhere but at the most possible place.
+    fn fill_necessity(&mut self, pos: Top2) {
         // An empty max is 0: a lone place is certain.
         let (all, but_best) = pos.complements();
         self.necessity.fill(all);
@@ -213,6 +256,89 @@ impl PlaceDistribution {
             *nk = but_best;
         }
     }
+
+    /// [`Self::fill_raw`] and [`Self::finish`] in one pass over the places, for a caller that
+    /// has already written `support` and `exclusion`, and in `possibility_raw` each place's
+    /// bound from its own evidence, `t_k = min(1 − β_k, caps of the set heads on k)`; `sup`
+    /// holds the extremes of `support` (pushed in place order) and `t_max = max_k t_k`.
+    ///
+    /// `π_k = min(o_k, t_k)` with `o_k` the complement of the other supports, which is one
+    /// value `o` for every place but the most supported one `b`, whose `o_b ≥ o`. So the
+    /// height `max_k π_k` is `max(min(o, t_max), min(o_b, t_b))` (`min(o_b, t_b)` covers the
+    /// term `min(o, t_b)` it bounds), known before the pass that writes `π`, `π'` and their
+    /// extremes. `min` and `max` are exact and the degrees are never NaN nor `−0` here (clamped
+    /// supports, `1 − x` of degrees in `[0, 1]`), so every column holds the bits the separate
+    /// passes write.
+    pub(crate) fn finish_bounded(
+        &mut self,
+        sup: Top2,
+        t_max: f64,
+        normalisation: Normalisation,
+    ) -> Peaks {
+        let (all, but_best) = sup.complements();
+        let mut h = all.min(t_max).max(0.0);
+        if let Some(&t) = self.possibility_raw.get(sup.best) {
+            h = h.max(but_best.min(t));
+        }
+        self.height = h;
+        self.inconsistency = 1.0 - h;
+        let (raw, pi) = (&mut self.possibility_raw, &mut self.possibility);
+        let o = (sup.best, all, but_best);
+        // One loop per case, so that each is a plain pass over the columns.
+        let pos = if h <= 0.0 {
+            bounded_pass(raw, pi, o, |_| 1.0)
+        } else {
+            match normalisation {
+                Normalisation::Min => bounded_pass(raw, pi, o, |r| if r >= h { 1.0 } else { r }),
+                Normalisation::Product => bounded_pass(raw, pi, o, |r| lower(r / h, 1.0)),
+            }
+        };
+        self.fill_necessity(pos);
+        Peaks {
+            support: sup,
+            possibility: pos,
+        }
+    }
+}
+
+/// `min(a, b)` of operands that are never NaN (nor `−0` beside `+0`): the value `f64::min`
+/// gives, without the NaN handling it pays on every call in a pass over the places.
+#[inline]
+pub(crate) fn lower(a: f64, b: f64) -> f64 {
+    if b < a {
+        b
+    } else {
+        a
+    }
+}
+
+/// `max(a, b)` of operands that are never NaN (nor `−0` beside `+0`), as [`lower`].
+#[inline]
+pub(crate) fn higher(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
+    }
+}
+
+/// `π_k = min(o_k, t_k)` into `raw` (which holds `t`), `π'_k = norm(π_k)` into `pi`, and the
+/// extremes of `π'`; `o_k` is `o.2` at place `o.0`, `o.1` elsewhere.
+#[inline]
+fn bounded_pass(
+    raw: &mut [f64],
+    pi: &mut [f64],
+    (b, all, but_best): (usize, f64, f64),
+    norm: impl Fn(f64) -> f64,
+) -> Top2 {
+    let mut pos = Top2::EMPTY;
+    for (k, (t, p)) in raw.iter_mut().zip(pi).enumerate() {
+        let r = lower(if k == b { but_best } else { all }, *t);
+        *t = r;
+        *p = norm(r);
+        pos.push(k, *p);
+    }
+    pos
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@ mod support;
 
 mod engine_golden;
 mod engine_grid_tracker;
+mod engine_passes;
 mod engine_places;
 mod engine_props;
 mod engine_tracker_ref;

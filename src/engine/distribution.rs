@@ -1,0 +1,205 @@
+//! The place distribution of a step without evidence groups or a known region, from the tape's
+//! registers in two passes over the places (issue 16: at 10,000 places each pass over every
+//! place costs more than the few places a frame's gates evaluate).
+//!
+//! The first pass reads each place's support and exclusion (the exclusion from a table of the
+//! distinct exclusion registers, `Exclusions`), keeps the extremes of the supports and writes
+//! the place's own bound `t_k = min(1 − β_k, c)`, `c` the lowest cap of the set heads
+//! (`at_place(P) -> in_room(R)` at every place gives one head per room); the few members of that
+//! lowest head get their own caps after it (see `named_sets::constrain_heads`: a place's cap is
+//! the lowest among the heads that leave it out). The second pass is
+//! [`PlaceDistribution::finish_bounded`]: `π`, the height, `π'`, `N`, and the extremes the
+//! decision reads. Every column holds the bits of the separate passes (`fill_raw`, the heads,
+//! `finish`), and the decision is `decide`'s: `min` and `max` are exact and order-free on these
+//! degrees, which are never NaN nor `−0`. Allocates nothing.
+
+use super::compile::SetHead;
+use crate::logic::possibility::{higher, lower, Peaks, Top2};
+use crate::logic::{clamp_degree, Normalisation, PlaceDistribution};
+
+/// The member places of each set head, listed once at load time (a head's `PlaceSet` is a flag
+/// per place: walking it for a handful of members would read every place).
+#[derive(Debug, Clone)]
+pub(super) struct HeadMembers {
+    start: Vec<u32>,
+    places: Vec<u32>,
+}
+
+impl HeadMembers {
+    pub(super) fn new(heads: &[SetHead]) -> HeadMembers {
+        let mut start = Vec::with_capacity(heads.len() + 1);
+        let mut places = Vec::new();
+        start.push(0);
+        for h in heads {
+            places.extend(h.members.indices().map(|k| k as u32));
+            start.push(places.len() as u32);
+        }
+        HeadMembers { start, places }
+    }
+
+    fn of(&self, h: usize) -> &[u32] {
+        let (Some(&s), Some(&e)) = (self.start.get(h), self.start.get(h + 1)) else {
+            return &[];
+        };
+        self.places.get(s as usize..e as usize).unwrap_or(&[])
+    }
+}
+
+/// What a step reads the distribution from.
+pub(super) struct Inputs<'a> {
+    pub regs: &'a [f64],
+    pub support: &'a [u32],
+    pub heads: &'a [SetHead],
+    pub members: &'a HeadMembers,
+}
+
+/// The places' exclusion registers, each distinct one listed once, with its degree and the
+/// bound it gives in the current step: negative evidence is often one register per wall
+/// configuration, shared by thousands of places, so the first pass looks each place's up in a
+/// table of a few entries rather than clamping a register of its own.
+#[derive(Debug, Clone)]
+pub(super) struct Exclusions {
+    regs: Vec<u32>,
+    of_place: Vec<u32>,
+    degree: Vec<f64>,
+    bound: Vec<f64>,
+}
+
+impl Exclusions {
+    /// From each place's exclusion register.
+    pub(super) fn new(exclusion: &[u32]) -> Exclusions {
+        let mut index = std::collections::HashMap::new();
+        let mut regs = Vec::new();
+        let of_place = exclusion
+            .iter()
+            .map(|&r| {
+                *index.entry(r).or_insert_with(|| {
+                    regs.push(r);
+                    regs.len() as u32 - 1
+                })
+            })
+            .collect();
+        let m = regs.len();
+        Exclusions {
+            regs,
+            of_place,
+            degree: vec![0.0; m],
+            bound: vec![1.0; m],
+        }
+    }
+
+    /// Each distinct register's degree and bound `min(1 − β, c0)`; their maximum, which is the
+    /// maximum over the places, since every entry is some place's.
+    fn read(&mut self, regs: &[f64], c0: f64) -> f64 {
+        let mut t_max = f64::NEG_INFINITY;
+        let cols = self.degree.iter_mut().zip(&mut self.bound);
+        for ((e, t), &r) in cols.zip(&self.regs) {
+            *e = read(regs, r);
+            *t = lower(1.0 - *e, c0);
+            t_max = higher(t_max, *t);
+        }
+        t_max
+    }
+}
+
+/// Scratch for the heads of positive degree, `(cap, head)`, sized at load time.
+#[derive(Debug, Clone, Default)]
+pub(super) struct HeadScratch {
+    plain: Vec<(f64, usize)>,
+    negated: Vec<(f64, usize)>,
+}
+
+impl HeadScratch {
+    pub(super) fn new(heads: usize) -> HeadScratch {
+        HeadScratch {
+            plain: Vec::with_capacity(heads),
+            negated: Vec::with_capacity(heads),
+        }
+    }
+}
+
+fn read(regs: &[f64], r: u32) -> f64 {
+    clamp_degree(regs.get(r as usize).copied().unwrap_or(0.0))
+}
+
+/// Fills `dist` from the registers (see the module docs) and returns the extremes the decision
+/// reads; `None`, touching nothing, when the register lists are not one per place (the
+/// separate passes then run).
+pub(super) fn fill(
+    dist: &mut PlaceDistribution,
+    inp: &Inputs<'_>,
+    scratch: &mut HeadScratch,
+    ex: &mut Exclusions,
+    normalisation: Normalisation,
+) -> Option<Peaks> {
+    let n = dist.len();
+    let cols_ok = [dist.exclusion.len(), dist.possibility_raw.len()];
+    if inp.support.len() != n || ex.of_place.len() != n || cols_ok != [n, n] {
+        return None;
+    }
+    sort_heads(inp, scratch);
+    let (c0, h0) = scratch.plain.first().copied().unwrap_or((1.0, usize::MAX));
+    let mut sup = Top2::EMPTY;
+    let mut t_max = ex.read(inp.regs, c0);
+    let cols = dist.support.iter_mut().zip(&mut dist.exclusion);
+    let cols = cols.zip(&mut dist.possibility_raw);
+    let regs = inp.support.iter().zip(&ex.of_place);
+    for (k, (((s, e), t), (&rs, &j))) in cols.zip(regs).enumerate() {
+        *s = read(inp.regs, rs);
+        sup.push(k, *s);
+        // Every index is a table entry (made from these places); the defaults are never read.
+        *e = ex.degree.get(j as usize).copied().unwrap_or(0.0);
+        *t = ex.bound.get(j as usize).copied().unwrap_or(1.0);
+    }
+    // The lowest head's members: the lowest cap among the heads that leave them out (at least
+    // `c0`, so `t_max` only rises).
+    for &k in inp.members.of(h0) {
+        let k = k as usize;
+        let outside = scratch
+            .plain
+            .iter()
+            .skip(1)
+            .find(|&&(_, h)| inp.heads.get(h).is_some_and(|x| !x.members.contains(k)));
+        let cap = outside.map_or(1.0, |&(c, _)| c);
+        if let (Some(t), Some(&e)) = (dist.possibility_raw.get_mut(k), dist.exclusion.get(k)) {
+            *t = lower(1.0 - e, cap);
+            t_max = higher(t_max, *t);
+        }
+    }
+    if !scratch.negated.is_empty() {
+        for &(cap, h) in &scratch.negated {
+            for &k in inp.members.of(h) {
+                if let Some(t) = dist.possibility_raw.get_mut(k as usize) {
+                    *t = t.min(cap);
+                }
+            }
+        }
+        // Lowered bounds: the maximum is read again.
+        t_max = dist
+            .possibility_raw
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max);
+    }
+    Some(dist.finish_bounded(sup, t_max, normalisation))
+}
+
+/// The heads of positive degree into `scratch`, `(1 − degree, head)`: the plain ones sorted by
+/// cap, the negated ones in head order. A head of degree 0 caps at 1, which changes nothing.
+fn sort_heads(inp: &Inputs<'_>, scratch: &mut HeadScratch) {
+    scratch.plain.clear();
+    scratch.negated.clear();
+    for (h, head) in inp.heads.iter().enumerate() {
+        let degree = read(inp.regs, head.reg);
+        if degree <= 0.0 {
+            continue;
+        }
+        let list = if head.negated {
+            &mut scratch.negated
+        } else {
+            &mut scratch.plain
+        };
+        list.push((1.0 - degree, h));
+    }
+    scratch.plain.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+}
