@@ -380,7 +380,8 @@ impl Engine {
         &self.dist
     }
 
-    /// Room degrees of the last step (computed when first asked for after a step).
+    /// Room degrees of the last step (computed when first asked for after a step: that read
+    /// allocates the result, [`Engine::step`] itself allocates nothing).
     pub fn rooms(&self) -> &RoomDegrees {
         self.rooms
             .get_or_init(|| (self.room_sets).degrees(&self.dist, &self.regs, &self.compiled.rooms))
