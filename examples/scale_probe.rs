@@ -1,5 +1,8 @@
 //! Splits a tracked frame at N generated places into `Engine::step` and the graph tracker's
-//! step (issue 16): `cargo run --release --example scale_probe -- 10000 400`.
+//! step (issue 16): `cargo run --release --example scale_probe -- 10000 400`. A third argument
+//! `W` reports the tracker over the frames from `W` on (default: the second half), so that a
+//! long walk (`10000 4000 400`) measures, or profiles, the steady state after every anchor's
+//! first 400 frames.
 
 use lplace::engine::tracker::{PlaceTracker, TrackerConfig};
 use lplace::engine::Engine;
@@ -16,8 +19,10 @@ fn main() {
             .unwrap_or(d)
     };
     let (n, steps) = (arg(1, 1000) as usize, arg(2, 400));
+    let warm = arg(3, steps / 2) as usize;
     let text = lplace::sim::large_map::lattice_office(n, 1);
     let t0 = Instant::now();
+    let begun = t0;
     let rules = include_str!("../rules/office.lpl");
     let Ok(mut engine) = Engine::load(
         &SourceFile::new("scale.map", text.as_str()),
@@ -50,6 +55,10 @@ fn main() {
     let (mut e_time, mut t_time, mut decided) = (0.0, 0.0, 0);
     let mut late = 0.0;
     for (k, (f, odo)) in frames.iter().enumerate() {
+        if k == warm {
+            // For a profiler started with a delay (`perf record -D`): the steady frames only.
+            eprintln!("frame {warm} at {:.2} s", begun.elapsed().as_secs_f64());
+        }
         let a = Instant::now();
         engine.step(f);
         let b = Instant::now();
@@ -61,18 +70,18 @@ fn main() {
         );
         e_time += (b - a).as_secs_f64();
         t_time += b.elapsed().as_secs_f64();
-        if 2 * k >= frames.len() {
+        if k >= warm {
             late += b.elapsed().as_secs_f64();
         }
     }
     let k = frames.len().max(1) as f64;
     println!(
-        "n {n}: load {:.3} s, tracker built {:.3} s; per frame: engine {:.1} µs, tracker {:.1} µs (second half: {:.1} µs); decided {decided}/{}",
+        "n {n}: load {:.3} s, tracker built {:.3} s; per frame: engine {:.1} µs, tracker {:.1} µs (frames {warm}..: {:.1} µs); decided {decided}/{}",
         load.as_secs_f64(),
         build.as_secs_f64(),
         1e6 * e_time / k,
         1e6 * t_time / k,
-        2e6 * late / k,
+        1e6 * late / (frames.len().saturating_sub(warm).max(1) as f64),
         frames.len()
     );
 }
