@@ -958,8 +958,8 @@ impl Tracker {
         let (max_support, top) = self.intersect(evidence, b, w);
 
         // Revise the anchors: keep those the frame agrees with, re-anchor supported places.
-        let changed = self.revise(1.0 - max_support, b);
-        self.reanchor(changed);
+        let (changed, top_revised) = self.revise(1.0 - max_support, b);
+        self.reanchor(changed, top_revised);
 
         self.decision = pass::decide(&self.dist, &top, max_support, self.params);
         self.decision = unless_unsupported(self.decision, max_support, self.cfg.min_support, |k| {
@@ -972,7 +972,9 @@ impl Tracker {
     /// to height 1. When neither the revision (`changed`) nor a re-anchoring changed an anchor
     /// and the highest is already exactly 1, the renormalisation would divide by 1, which
     /// changes nothing: it is skipped (most frames of a walk, the ones with no support).
-    fn reanchor(&mut self, changed: bool) {
+    /// `revised` is the revision's highest (see [`Tracker::revise`]), when it has one: then only
+    /// the anchors set since are read for the highest.
+    fn reanchor(&mut self, changed: bool, revised: Option<f64>) {
         for &j in self.supported.iter().take(self.supported_len) {
             let j = j as usize;
             let pi = self.dist.possibility.get(j).copied().unwrap_or(0.0);
@@ -990,7 +992,16 @@ impl Tracker {
         if !changed && self.supported_len == 0 && self.top_is_one {
             return;
         }
-        let top = self.anchor.iter().copied().fold(0.0, f64::max);
+        // The same value as the highest of all (its sign at 0 is not read: `top > 0` fails).
+        let top = match revised {
+            Some(top) => {
+                let set = self.touched.iter().take(self.touched_len);
+                let set = set.chain(self.supported.iter().take(self.supported_len));
+                let values = set.filter_map(|&i| self.anchor.get(i as usize));
+                values.fold(top, |x, &y| if y > x { y } else { x })
+            }
+            None => self.anchor.iter().copied().fold(0.0, f64::max),
+        };
         if top > 0.0 {
             // `m / 1 = m`; otherwise the highest becomes `top / top = 1` exactly.
             if top != 1.0 {
@@ -1220,16 +1231,25 @@ impl Tracker {
     /// anchor gets `T(m_i, floor)` — which is `m_i` itself, and skipped, when `floor = 1` with
     /// the min (`m_i ≤ 1`) or product t-norm. Max selects exactly, so the order of the terms
     /// does not matter, and a dead anchor stays `T(0, x) = 0` whatever its terms.
-    fn revise(&mut self, between: f64, b: f64) -> bool {
+    ///
+    /// Also returns, when every anchor was revised, the highest of them but the ones the
+    /// revision raised and the supported places, which `reanchor` sets: those are 0 here
+    /// (`T(0, x) = 0`, below any value they get), and a raised anchor's `T(m_i, floor)` is below
+    /// the value it gets (`T` is monotone, with its roundings, and the term exceeds `floor`).
+    fn revise(&mut self, between: f64, b: f64) -> (bool, Option<f64>) {
         let t = self.cfg.tnorm;
         let floor = between.max(b);
         // The hot places were listed with the normalisation (`Tracker::intersect`).
         self.raise(floor);
         let unchanged = floor == 1.0 && t != TNorm::Lukasiewicz;
+        let mut top = None;
         if !unchanged {
-            for m in &mut self.anchor {
-                *m = t.apply(*m, floor);
+            for &j in self.supported.iter().take(self.supported_len) {
+                if let Some(m) = self.anchor.get_mut(j as usize) {
+                    *m = 0.0;
+                }
             }
+            top = Some(pass::revise(&mut self.anchor, t, floor));
         }
         for &i in self.touched.iter().take(self.touched_len) {
             let i = i as usize;
@@ -1237,7 +1257,7 @@ impl Tracker {
                 (*m, *r) = (*r, -1.0);
             }
         }
-        !unchanged || self.touched_len > 0
+        (!unchanged || self.touched_len > 0, top)
     }
 
     /// For each anchor a hot place raises above `floor`, its revised value `T(m_i, max_j
@@ -1257,22 +1277,11 @@ impl Tracker {
                 }
                 let gate = self.gates.gate(&self.cfg, i, s, disp);
                 let r = match &gate {
-                    // A pair outside the anchor's window has `R_ij = 0` (`Gates::window`, at
-                    // the distance the blur already moved the cursor to): its length, in the
-                    // largest array, is read only for the pairs inside.
-                    Gate::Path(s) => {
-                        let Some(cur) = self.cursor.get_mut(i) else {
-                            continue;
-                        };
-                        if !self.gates.window(i, *s, cur).contains(&(k as usize)) {
-                            continue;
-                        }
-                        self.gates.reach(&gate, k as usize)
-                    }
-                    // Column `j` holds the pairs whose target is `j`.
+                    // Column `j` holds the pairs whose target is `j`: the pair need not be read.
                     Gate::Displacement(moved, shape) => {
                         self.gates.displacement_reach(moved, j, shape)
                     }
+                    Gate::Path(_) => self.gates.reach(&gate, k as usize),
                 };
                 let term = r.min(g);
                 let Some(r) = self.raised.get_mut(i) else {

@@ -146,6 +146,33 @@ fn run(
     (top(h), top(m))
 }
 
+/// `m_i ← T(m_i, floor)` for every anchor; returns the highest result (with `>` in lanes: the
+/// value of the highest, a 0 of either sign).
+pub(super) fn revise(anchor: &mut [f64], t: TNorm, floor: f64) -> f64 {
+    match t {
+        TNorm::Min => scale(anchor, |m| TNorm::Min.apply(m, floor)),
+        TNorm::Product => scale(anchor, |m| TNorm::Product.apply(m, floor)),
+        TNorm::Lukasiewicz => scale(anchor, |m| TNorm::Lukasiewicz.apply(m, floor)),
+    }
+}
+
+#[inline(always)]
+fn scale(anchor: &mut [f64], f: impl Fn(f64) -> f64) -> f64 {
+    let mut top = [0.0f64; LANES];
+    let mut chunks = anchor.chunks_exact_mut(LANES);
+    for c in &mut chunks {
+        for l in 0..LANES {
+            c[l] = f(c[l]);
+            top[l] = if c[l] > top[l] { c[l] } else { top[l] };
+        }
+    }
+    for m in chunks.into_remainder() {
+        *m = f(*m);
+        top[0] = if *m > top[0] { *m } else { top[0] };
+    }
+    top.iter().fold(0.0, |x, &y| if y > x { y } else { x })
+}
+
 /// The most possible place and the two highest `π'` (`PlaceDistribution::normalise`'s search:
 /// the first place of the highest value; the second is the highest of the others).
 #[derive(Debug, Clone, Copy)]
