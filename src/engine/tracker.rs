@@ -1056,7 +1056,11 @@ impl Tracker {
         }
         // The revision's floor: no place is hot when it is 1 (see `Tracker::revise`).
         let floor = (1.0 - max_support).max(b);
-        let hot = (floor < 1.0).then_some((floor, &self.evid[..], &mut self.hot[..]));
+        let hot = (floor < 1.0).then_some(pass::Hot {
+            floor,
+            evid: &self.evid,
+            list: &mut self.hot,
+        });
         let d = &mut self.dist;
         let norm = self.cfg.normalisation;
         let (top, hot_len) =

@@ -189,16 +189,24 @@ impl Top {
     }
 }
 
+/// What the normalisation lists the revision's hot places with: its floor, `e_j`, and the list
+/// (see [`normalise`]).
+pub(super) struct Hot<'a> {
+    pub floor: f64,
+    pub evid: &'a [f64],
+    pub list: &'a mut [(u32, f64)],
+}
+
 /// `π'` of every place from `raw` and its height `h` (the value of `max raw`; its sign at 0 does
 /// not matter), as `PlaceDistribution::normalise` computes it, with the two highest `π'` found in
-/// the same pass. With `hot = Some((floor, evid, list))` also lists the places whose agreement
-/// `min(π'_j, e_j)` exceeds `floor` (into `list`, returning how many; see `Tracker::revise`).
+/// the same pass. With `hot` also lists the places whose agreement `min(π'_j, e_j)` exceeds
+/// `floor` (into `list`, returning how many; see `Tracker::revise`).
 pub(super) fn normalise(
     raw: &[f64],
     h: f64,
     norm: Normalisation,
     poss: &mut [f64],
-    hot: Option<(f64, &[f64], &mut [(u32, f64)])>,
+    hot: Option<Hot>,
 ) -> (Top, usize) {
     if h <= 0.0 {
         // Nothing is possible: total ignorance rather than 0/0.
@@ -213,12 +221,7 @@ pub(super) fn normalise(
 }
 
 #[inline(always)]
-fn scan(
-    raw: &[f64],
-    poss: &mut [f64],
-    hot: Option<(f64, &[f64], &mut [(u32, f64)])>,
-    f: impl Fn(f64) -> f64,
-) -> (Top, usize) {
+fn scan(raw: &[f64], poss: &mut [f64], hot: Option<Hot>, f: impl Fn(f64) -> f64) -> (Top, usize) {
     let mut t = Top {
         best: usize::MAX,
         first: f64::NEG_INFINITY,
@@ -240,7 +243,7 @@ fn scan(
                 each(k, *p);
             }
         }
-        Some((floor, evid, list)) => {
+        Some(Hot { floor, evid, list }) => {
             let evid = &evid[..n.min(evid.len())];
             for (k, ((p, &r), &e)) in poss.iter_mut().zip(raw).zip(evid).enumerate() {
                 *p = f(r);
@@ -475,7 +478,11 @@ mod tests {
             let floor = [0.3, 0.7, 1.0][rng.below(3)];
             let evid: Vec<f64> = (0..n).map(|_| level(&mut rng, false)).collect();
             let mut list = vec![(0, 0.0); n];
-            let hot = (floor < 1.0).then_some((floor, &evid[..], &mut list[..]));
+            let hot = (floor < 1.0).then_some(Hot {
+                floor,
+                evid: &evid,
+                list: &mut list,
+            });
             let (top, found) = normalise(&got.possibility_raw, h, norm, &mut got.possibility, hot);
             nec.write(&mut got.necessity, &top);
             assert_eq!(
