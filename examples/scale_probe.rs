@@ -1,7 +1,9 @@
 //! Splits a tracked frame at N generated places into `Engine::step` and the graph tracker's
 //! step (issue 16): `cargo run --release --example scale_probe -- 10000 800`. A third argument
-//! `engine` steps the engine alone (no tracker), e.g. under a profiler: the figures are then
-//! those of `Engine::step` over the second half of the frames.
+//! `W` reports both over the frames from `W` on (default: the second half), so that a long walk
+//! (`10000 4000 400`) measures, or profiles (`perf record -D`, after the line it prints when
+//! frame `W` is reached), the steady state after every anchor's first 400 frames; `engine`
+//! instead steps the engine alone (no tracker), its figure over the second half.
 
 use lplace::engine::tracker::{PlaceTracker, TrackerConfig};
 use lplace::engine::Engine;
@@ -19,8 +21,14 @@ fn main() {
     };
     let (n, steps) = (arg(1, 1000) as usize, arg(2, 400));
     let engine_only = std::env::args().nth(3).is_some_and(|a| a == "engine");
+    let warm = if engine_only {
+        steps / 2
+    } else {
+        arg(3, steps / 2)
+    } as usize;
     let text = lplace::sim::large_map::lattice_office(n, 1);
     let t0 = Instant::now();
+    let begun = t0;
     let rules = include_str!("../rules/office.lpl");
     let Ok(mut engine) = Engine::load(
         &SourceFile::new("scale.map", text.as_str()),
@@ -71,6 +79,9 @@ fn main() {
     let (mut e_time, mut t_time, mut decided) = (0.0, 0.0, 0);
     let (mut e_late, mut t_late) = (0.0, 0.0);
     for (i, (f, odo)) in frames.iter().enumerate() {
+        if i == warm {
+            eprintln!("frame {warm} at {:.2} s", begun.elapsed().as_secs_f64());
+        }
         let a = Instant::now();
         engine.step(f);
         let b = Instant::now();
@@ -82,18 +93,19 @@ fn main() {
         );
         let (e, t) = ((b - a).as_secs_f64(), b.elapsed().as_secs_f64());
         (e_time, t_time) = (e_time + e, t_time + t);
-        if 2 * i >= frames.len() {
+        if i >= warm {
             (e_late, t_late) = (e_late + e, t_late + t);
         }
     }
+    let late = frames.len().saturating_sub(warm).max(1) as f64;
     println!(
-        "n {n}: load {:.3} s, tracker built {:.3} s; per frame: engine {:.1} µs, tracker {:.1} µs (second half: engine {:.1} µs, tracker {:.1} µs); decided {decided}/{}",
+        "n {n}: load {:.3} s, tracker built {:.3} s; per frame: engine {:.1} µs, tracker {:.1} µs (frames {warm}..: engine {:.1} µs, tracker {:.1} µs); decided {decided}/{}",
         load.as_secs_f64(),
         build.as_secs_f64(),
         1e6 * e_time / k,
         1e6 * t_time / k,
-        2e6 * e_late / k,
-        2e6 * t_late / k,
+        1e6 * e_late / late,
+        1e6 * t_late / late,
         frames.len()
     );
 }

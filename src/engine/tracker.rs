@@ -79,10 +79,14 @@
 
 use super::grid_tracker::{GridTrackConfig, GridTracker};
 use crate::core::Odometry;
+#[cfg(test)]
+use crate::logic::decide;
 use crate::logic::{
-    clamp_degree, decide, Decision, DecisionParams, Disoriented, Normalisation, PlaceDistribution,
+    clamp_degree, Decision, DecisionParams, Disoriented, Normalisation, PlaceDistribution,
     Similarity, TNorm,
 };
+
+mod pass;
 use crate::map::dijkstra::BoundedDijkstra;
 use crate::map::{Extent, Map};
 use serde::{Deserialize, Serialize};
@@ -400,6 +404,15 @@ pub struct Tracker {
     /// Heading of the previous frame, radians, once some frame carried one.
     heading: Option<f64>,
     pred: Vec<f64>,
+    /// The places whose `pred` the last blur made other than `+0` (the first `dirty_len`), so
+    /// that the next blur resets only those; `dirty_all` when they did not fit (or after a
+    /// reset), and the whole column is reset.
+    dirty: Vec<u32>,
+    dirty_len: usize,
+    dirty_all: bool,
+    /// What the distribution's necessity column holds, so that a step writes only the entries
+    /// that change ([`pass::Necessity`]).
+    nec: pass::Necessity,
     /// Per row, where its path-gate window was last found ([`Gates::window`]).
     cursor: Vec<Cursor>,
     /// Distance moved whose evidence has not been taken yet, metres; `None` before the first
@@ -701,23 +714,36 @@ impl Gates {
 
     /// `pred_j = max(pred_j, min(a, R_ij))` over the pairs `range` of an anchor of value `a`
     /// gated by `gate`. `R_ij` is computed here, pair by pair, rather than stored: each pair is
-    /// read once per step, by the anchors that can raise `pred`.
-    fn carry(&self, pred: &mut [f64], gate: &Gate, range: std::ops::Range<usize>, a: f64) {
+    /// read once per step, by the anchors that can raise `pred`. `mark` is told each place
+    /// whose `pred` leaves `+0`, so that the next blur can reset only those.
+    fn carry(
+        &self,
+        pred: &mut [f64],
+        gate: &Gate,
+        range: std::ops::Range<usize>,
+        a: f64,
+        mut mark: impl FnMut(u32),
+    ) {
         let targets = self.target.get(range.clone()).unwrap_or(&[]);
+        let mut raise = |j: u32, r: f64| {
+            if let Some(p) = pred.get_mut(j as usize) {
+                let old = *p;
+                *p = old.max(a.min(r));
+                if old.to_bits() == 0 && p.to_bits() != 0 {
+                    mark(j);
+                }
+            }
+        };
         match gate {
             Gate::Path(s) => {
                 let lengths = self.length.get(range).unwrap_or(&[]);
                 for (&j, &l) in targets.iter().zip(lengths) {
-                    if let Some(p) = pred.get_mut(j as usize) {
-                        *p = p.max(a.min(path_reach(self.shape, *s, l)));
-                    }
+                    raise(j, path_reach(self.shape, *s, l));
                 }
             }
             Gate::Displacement(moved, shape) => {
                 for &j in targets {
-                    if let Some(p) = pred.get_mut(j as usize) {
-                        *p = p.max(a.min(self.displacement_reach(moved, j, shape)));
-                    }
+                    raise(j, self.displacement_reach(moved, j, shape));
                 }
             }
         }
@@ -790,6 +816,15 @@ fn advance(xs: &[f64], end: &mut End, holds: impl Fn(f64) -> bool) {
     end.next = xs.get(k).copied().unwrap_or(f64::INFINITY);
 }
 
+/// Adds `j` to the places whose `pred` a blur raised (`list[..len]`), or sets `all` when the
+/// list is full.
+fn mark(list: &mut [u32], len: &mut usize, all: &mut bool, j: u32) {
+    match list.get_mut(*len) {
+        Some(slot) => (*slot, *len) = (j, *len + 1),
+        None => *all = true,
+    }
+}
+
 /// The displacement gate `s` metres after its anchor: full match within `tolerance_d +
 /// tolerance_d_rel·s` of the target extent, falling to 0 over `slope_d + slope_d_rel·s`.
 pub fn displacement_gate(cfg: &TrackerConfig, s: f64) -> Similarity {
@@ -834,6 +869,10 @@ impl Tracker {
             disp: vec![Some([0.0; 2]); n],
             heading: None,
             pred: vec![1.0; n],
+            dirty: vec![0; n],
+            dirty_len: 0,
+            dirty_all: true,
+            nec: pass::Necessity::default(),
             cursor: vec![Cursor::default(); n],
             pending_evidence: None,
             evid: vec![0.0; n],
@@ -879,6 +918,8 @@ impl Tracker {
         self.disp.fill(Some([0.0; 2]));
         self.heading = None;
         self.pred.fill(1.0);
+        self.dirty_all = true;
+        self.nec.forget();
         self.low_len = 0;
         self.pred_full = true;
         self.top_is_one = true;
@@ -914,13 +955,13 @@ impl Tracker {
 
         self.blur(b);
 
-        let max_support = self.intersect(evidence, b, w);
+        let (max_support, top) = self.intersect(evidence, b, w);
 
         // Revise the anchors: keep those the frame agrees with, re-anchor supported places.
-        let changed = self.revise(1.0 - max_support, b);
-        self.reanchor(changed);
+        let (changed, top_revised) = self.revise(1.0 - max_support, b);
+        self.reanchor(changed, top_revised);
 
-        self.decision = decide(&self.dist, self.params);
+        self.decision = pass::decide(&self.dist, &top, max_support, self.params);
         self.decision = unless_unsupported(self.decision, max_support, self.cfg.min_support, |k| {
             clamp_degree(evidence.support.get(k).copied().unwrap_or(0.0))
         });
@@ -931,7 +972,9 @@ impl Tracker {
     /// to height 1. When neither the revision (`changed`) nor a re-anchoring changed an anchor
     /// and the highest is already exactly 1, the renormalisation would divide by 1, which
     /// changes nothing: it is skipped (most frames of a walk, the ones with no support).
-    fn reanchor(&mut self, changed: bool) {
+    /// `revised` is the revision's highest (see [`Tracker::revise`]), when it has one: then only
+    /// the anchors set since are read for the highest.
+    fn reanchor(&mut self, changed: bool, revised: Option<f64>) {
         for &j in self.supported.iter().take(self.supported_len) {
             let j = j as usize;
             let pi = self.dist.possibility.get(j).copied().unwrap_or(0.0);
@@ -949,7 +992,16 @@ impl Tracker {
         if !changed && self.supported_len == 0 && self.top_is_one {
             return;
         }
-        let top = self.anchor.iter().copied().fold(0.0, f64::max);
+        // The same value as the highest of all (its sign at 0 is not read: `top > 0` fails).
+        let top = match revised {
+            Some(top) => {
+                let set = self.touched.iter().take(self.touched_len);
+                let set = set.chain(self.supported.iter().take(self.supported_len));
+                let values = set.filter_map(|&i| self.anchor.get(i as usize));
+                values.fold(top, |x, &y| if y > x { y } else { x })
+            }
+            None => self.anchor.iter().copied().fold(0.0, f64::max),
+        };
         if top > 0.0 {
             // `m / 1 = m`; otherwise the highest becomes `top / top = 1` exactly.
             if top != 1.0 {
@@ -968,9 +1020,12 @@ impl Tracker {
 
     /// Intersects the carried belief with the evidence (`c_j = T(max(pred_j, b), e_j)`, or
     /// their union when they do not overlap, see the module docs), fills `dist` and normalises
-    /// it; returns the frame's highest support. `w` is the power the evidence is taken to.
-    fn intersect(&mut self, evidence: &PlaceDistribution, b: f64, w: f64) -> f64 {
+    /// it, and lists the revision's hot places (see [`Tracker::revise`]); returns the frame's
+    /// highest support and the two highest `π'`. `w` is the power the evidence is taken to.
+    fn intersect(&mut self, evidence: &PlaceDistribution, b: f64, w: f64) -> (f64, pass::Top) {
         let (h, max_support) = self.intersect_terms(evidence, b, w);
+        // The height `normalise` divides by: `max c` (or of the union below).
+        let mut height = h;
         self.dist.height = h;
         self.dist.inconsistency = 1.0 - h;
         if h < self.cfg.conflict {
@@ -982,68 +1037,102 @@ impl Tracker {
             let e_min = || self.evid.iter().copied().fold(1.0, f64::min);
             if self.low_len > 0 && self.low_max > e_min() {
                 let mut pred = std::mem::take(&mut self.pred);
-                self.carry_low(&mut pred);
-                self.pred = pred;
+                let mut dirty = std::mem::take(&mut self.dirty);
+                let (mut len, mut all) = (self.dirty_len, self.dirty_all);
+                self.carry_low(&mut pred, |j| mark(&mut dirty, &mut len, &mut all, j));
+                (self.pred, self.dirty, self.dirty_len, self.dirty_all) = (pred, dirty, len, all);
                 self.pred_full = true;
             }
             let raw = self.dist.possibility_raw.iter_mut();
             for (c, (&p, &e)) in raw.zip(self.pred.iter().zip(&self.evid)) {
                 *c = p.max(e);
             }
+            height = self
+                .dist
+                .possibility_raw
+                .iter()
+                .copied()
+                .fold(0.0, f64::max);
         }
-        // In the union case `possibility_raw` now holds the union, whose height normalises.
-        self.dist.normalise(self.cfg.normalisation);
-        max_support
+        // The revision's floor: no place is hot when it is 1 (see `Tracker::revise`).
+        let floor = (1.0 - max_support).max(b);
+        let hot = (floor < 1.0).then_some(pass::Hot {
+            floor,
+            evid: &self.evid,
+            list: &mut self.hot,
+        });
+        let d = &mut self.dist;
+        let norm = self.cfg.normalisation;
+        let (top, hot_len) =
+            pass::normalise(&d.possibility_raw, height, norm, &mut d.possibility, hot);
+        self.hot_len = hot_len;
+        self.nec.write(&mut d.necessity, &top);
+        (max_support, top)
     }
 
     /// `e_j` (the clamped possibility to the power `w`), `c_j`, support and exclusion of every
     /// place into `evid` and `dist`, the places whose support reaches `anchor_support` into
-    /// `supported`; returns the height of `c` and the highest support. One
-    /// pass over the columns when the evidence has the map's length (what the engine gives);
+    /// `supported`; returns the height of `c` and the highest support. One pass over the columns
+    /// when the evidence has the map's length (what the engine gives, see [`pass::intersect`]);
     /// other lengths read missing places as "no evidence".
     fn intersect_terms(&mut self, evidence: &PlaceDistribution, b: f64, w: f64) -> (f64, f64) {
-        let (t, anchor_support, n) = (self.cfg.tnorm, self.cfg.anchor_support, self.n);
-        let (mut h, mut max_support) = (0.0f64, 0.0f64);
-        let (supported, len) = (&mut self.supported, &mut self.supported_len);
-        *len = 0;
-        let mut place = |j: usize, v: f64, a: f64, p: f64, e_out: &mut f64| -> f64 {
-            // `powf(1)` is exact: with evidence per frame nothing changes.
-            let e = if w == 1.0 { v } else { v.powf(w) };
-            *e_out = e;
-            max_support = max_support.max(a);
-            if a >= anchor_support {
-                if let Some(slot) = supported.get_mut(*len) {
-                    (*slot, *len) = (j as u32, *len + 1);
-                }
-            }
-            let c = t.apply(p.max(b), e);
-            h = h.max(c);
-            c
-        };
+        let (t, n) = (self.cfg.tnorm, self.n);
         let (pos, sup, exc) = (
             &evidence.possibility,
             &evidence.support,
             &evidence.exclusion,
         );
         let d = &mut self.dist;
-        if pos.len() == n && sup.len() == n && exc.len() == n && d.support.len() == n {
-            let out = d.support.iter_mut().zip(&mut d.exclusion);
-            let out = out.zip(d.possibility_raw.iter_mut().zip(&mut self.evid));
-            let input = pos.iter().zip(sup).zip(exc.iter().zip(&self.pred));
-            for (j, (((s, x), (raw, e)), ((&v, &a), (&z, &p)))) in out.zip(input).enumerate() {
-                let a = clamp_degree(a);
-                (*s, *x) = (a, clamp_degree(z));
-                *raw = place(j, clamp_degree(v), a, p, e);
-            }
+        let full = [
+            pos.len(),
+            sup.len(),
+            exc.len(),
+            d.support.len(),
+            self.pred.len(),
+        ];
+        let (mut h, max_support) = if full.iter().all(|&l| l == n) {
+            let ev = pass::Evidence {
+                possibility: pos,
+                support: sup,
+                exclusion: exc,
+            };
+            let out = pass::Written {
+                support: &mut d.support,
+                exclusion: &mut d.exclusion,
+                raw: &mut d.possibility_raw,
+                evid: &mut self.evid,
+            };
+            pass::intersect(t, b, w, &self.pred, &ev, out)
         } else {
+            let (mut h, mut max_support) = (0.0f64, 0.0f64);
             let ev =
                 |v: &[f64], j: usize, miss: f64| clamp_degree(v.get(j).copied().unwrap_or(miss));
             for j in 0..n {
                 let a = ev(sup, j, 0.0);
                 d.support[j] = a;
                 d.exclusion[j] = ev(exc, j, 0.0);
-                d.possibility_raw[j] =
-                    place(j, ev(pos, j, 1.0), a, self.pred[j], &mut self.evid[j]);
+                // `powf(1)` is exact: with evidence per frame nothing changes.
+                let v = ev(pos, j, 1.0);
+                let e = if w == 1.0 { v } else { v.powf(w) };
+                self.evid[j] = e;
+                let c = t.apply(self.pred[j].max(b), e);
+                d.possibility_raw[j] = c;
+                (h, max_support) = (h.max(c), max_support.max(a));
+            }
+            (h, max_support)
+        };
+        if h == 0.0 {
+            // Every `c` is 0: the height's sign of zero as the maxima in order give it.
+            h = d.possibility_raw.iter().copied().fold(0.0, f64::max);
+        }
+        self.supported_len = 0;
+        // Some support reaches `anchor_support` exactly when the highest does.
+        if max_support >= self.cfg.anchor_support {
+            let reach = d.support.iter().map(|&a| a >= self.cfg.anchor_support);
+            for (j, _) in reach.enumerate().filter(|&(_, r)| r) {
+                if let Some(slot) = self.supported.get_mut(self.supported_len) {
+                    (*slot, self.supported_len) = (j as u32, self.supported_len + 1);
+                }
             }
         }
         (h, max_support)
@@ -1064,7 +1153,7 @@ impl Tracker {
     /// t-norm shrinks the unsupported ones every frame), so the blur carries a handful of rows
     /// instead of every live one.
     fn blur(&mut self, b: f64) {
-        self.pred.fill(0.0);
+        self.clear_pred();
         (self.low_len, self.low_max, self.pred_full) = (0, 0.0, false);
         let mut k = 0;
         while let Some(&i) = self.near.get(k).filter(|_| k < self.near_len) {
@@ -1105,16 +1194,33 @@ impl Tracker {
                 }
             }
             let gate = self.gates.gate(&self.cfg, i, s, disp);
-            self.gates.carry(&mut self.pred, &gate, range, a);
+            let (dirty, len, all) = (&mut self.dirty, &mut self.dirty_len, &mut self.dirty_all);
+            self.gates.carry(&mut self.pred, &gate, range, a, |j| {
+                mark(dirty, len, all, j)
+            });
         }
     }
 
+    /// `pred = 0` before a blur: only the places the last one raised, when they are known.
+    fn clear_pred(&mut self) {
+        if self.dirty_all {
+            self.pred.fill(0.0);
+        } else {
+            for &j in self.dirty.iter().take(self.dirty_len) {
+                if let Some(p) = self.pred.get_mut(j as usize) {
+                    *p = 0.0;
+                }
+            }
+        }
+        (self.dirty_len, self.dirty_all) = (0, false);
+    }
+
     /// Adds to `pred` the terms of the anchors the last blur left out (see [`Tracker::blur`]),
-    /// each as it was at the blur.
-    fn carry_low(&self, pred: &mut [f64]) {
+    /// each as it was at the blur; `mark` is told the places raised from `+0`.
+    fn carry_low(&self, pred: &mut [f64], mut mark: impl FnMut(u32)) {
         for l in self.low.iter().take(self.low_len) {
             let gate = self.gates.gate(&self.cfg, l.i as usize, l.s, l.disp);
-            self.gates.carry(pred, &gate, l.lo..l.hi, l.a);
+            self.gates.carry(pred, &gate, l.lo..l.hi, l.a, &mut mark);
         }
     }
 
@@ -1129,16 +1235,25 @@ impl Tracker {
     /// anchor gets `T(m_i, floor)` — which is `m_i` itself, and skipped, when `floor = 1` with
     /// the min (`m_i ≤ 1`) or product t-norm. Max selects exactly, so the order of the terms
     /// does not matter, and a dead anchor stays `T(0, x) = 0` whatever its terms.
-    fn revise(&mut self, between: f64, b: f64) -> bool {
+    ///
+    /// Also returns, when every anchor was revised, the highest of them but the ones the
+    /// revision raised and the supported places, which `reanchor` sets: those are 0 here
+    /// (`T(0, x) = 0`, below any value they get), and a raised anchor's `T(m_i, floor)` is below
+    /// the value it gets (`T` is monotone, with its roundings, and the term exceeds `floor`).
+    fn revise(&mut self, between: f64, b: f64) -> (bool, Option<f64>) {
         let t = self.cfg.tnorm;
         let floor = between.max(b);
-        self.find_hot(floor);
+        // The hot places were listed with the normalisation (`Tracker::intersect`).
         self.raise(floor);
         let unchanged = floor == 1.0 && t != TNorm::Lukasiewicz;
+        let mut top = None;
         if !unchanged {
-            for m in &mut self.anchor {
-                *m = t.apply(*m, floor);
+            for &j in self.supported.iter().take(self.supported_len) {
+                if let Some(m) = self.anchor.get_mut(j as usize) {
+                    *m = 0.0;
+                }
             }
+            top = Some(pass::revise(&mut self.anchor, t, floor));
         }
         for &i in self.touched.iter().take(self.touched_len) {
             let i = i as usize;
@@ -1146,24 +1261,7 @@ impl Tracker {
                 (*m, *r) = (*r, -1.0);
             }
         }
-        !unchanged || self.touched_len > 0
-    }
-
-    /// The hot places of the revision: `agree_j > floor` (none can exceed `floor ≥ 1`).
-    fn find_hot(&mut self, floor: f64) {
-        self.hot_len = 0;
-        if floor >= 1.0 {
-            return;
-        }
-        let agree = self.dist.possibility.iter().zip(&self.evid);
-        for (j, (&p, &e)) in agree.enumerate() {
-            let g = p.min(e);
-            if g > floor {
-                if let Some(slot) = self.hot.get_mut(self.hot_len) {
-                    (*slot, self.hot_len) = ((j as u32, g), self.hot_len + 1);
-                }
-            }
-        }
+        (!unchanged || self.touched_len > 0, top)
     }
 
     /// For each anchor a hot place raises above `floor`, its revised value `T(m_i, max_j
@@ -1182,7 +1280,14 @@ impl Tracker {
                     continue;
                 }
                 let gate = self.gates.gate(&self.cfg, i, s, disp);
-                let term = self.gates.reach(&gate, k as usize).min(g);
+                let r = match &gate {
+                    // Column `j` holds the pairs whose target is `j`: the pair need not be read.
+                    Gate::Displacement(moved, shape) => {
+                        self.gates.displacement_reach(moved, j, shape)
+                    }
+                    Gate::Path(_) => self.gates.reach(&gate, k as usize),
+                };
+                let term = r.min(g);
                 let Some(r) = self.raised.get_mut(i) else {
                     continue;
                 };
@@ -1273,7 +1378,7 @@ impl Tracker {
     pub fn predicted(&self) -> Vec<f64> {
         let mut pred = self.pred.clone();
         if !self.pred_full {
-            self.carry_low(&mut pred);
+            self.carry_low(&mut pred, |_| {});
         }
         pred
     }
