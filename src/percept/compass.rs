@@ -39,7 +39,7 @@
 //! true poses (within 10°, 2026-12-03), it lifts CSAIL from 5.2 % to 47.0 % of the scans and
 //! Freiburg 101 from 90.4 % to 93.2 %, leaves Seattle at 100 %, but lowers the Intel lab from
 //! 98.5 % to 95.9 %, whose odometry turns right between scans and only drifts, and its
-//! surveyed map's figures with it (`docs/new-building.md`, section 5).
+//! rows of the buildings table with it, and Freiburg 101's too (`docs/new-building.md`, section 5).
 //!
 //! # Orientation of a scan
 //! Every pair of scan points `segment_deg` apart (the nearest whole number of beams, at least
@@ -262,7 +262,7 @@ impl CompassConfig {
         non_negative("compass.min_range_m", self.min_range_m)?;
         positive("compass.max_range_m", self.max_range_m)?;
         let w = self.scan_rotation_window_deg;
-        if !(w >= 1.0 && w < 90.0) {
+        if !(1.0..90.0).contains(&w) {
             return Err(ConfigError::invalid(
                 "compass.scan_rotation_window_deg",
                 w,

@@ -127,7 +127,8 @@ fn peak_of(rho: &[f64], smooth_deg: f64, min_contrast: f64) -> Option<usize> {
         .enumerate()
         .max_by(|a, b| a.1.total_cmp(&b.1))?;
     let floor = rho.iter().copied().fold(f64::INFINITY, f64::min);
-    if best == 0 || best + 1 >= n || !(top - floor >= min_contrast) {
+    let rise = top - floor;
+    if best == 0 || best + 1 >= n || rise.is_nan() || rise < min_contrast {
         return None;
     }
     let apart = 2.0 * smooth_deg.max(0.0) + 1.0;
