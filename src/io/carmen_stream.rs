@@ -119,6 +119,9 @@ pub struct ExtractQuality {
     /// between: in a corrected log those slots hold the corrected pose, so such a step carries
     /// the corrected motion, not the robot's odometry.
     pub odometry_from_scan_poses: u64,
+    /// With `compass.scan_rotation`, the odometry steps whose turn came from the scans and all
+    /// the steps the tracker took; `None` without it.
+    pub scan_turns: Option<(u64, u64)>,
 }
 
 impl std::fmt::Display for ExtractQuality {
@@ -147,6 +150,9 @@ impl std::fmt::Display for ExtractQuality {
                  {median:.1}°)",
                 100.0 * within
             )?;
+        }
+        if let Some((from_scans, steps)) = self.scan_turns {
+            write!(f, "; turn from the scans on {from_scans} of {steps} steps")?;
         }
         if self.odometry_from_scan_poses > 0 {
             write!(
@@ -221,6 +227,11 @@ impl<'m> CarmenFramer<'m> {
             truth_heading_error_median_deg: e.get(e.len() / 2).copied(),
             odometry_steps: q.steps,
             odometry_from_scan_poses: q.from_scan_poses,
+            scan_turns: self
+                .compass
+                .as_ref()
+                .filter(|c| c.config().scan_rotation)
+                .map(CompassTracker::scan_turns),
         }
     }
 
