@@ -143,8 +143,9 @@ pub(crate) fn decide_with_peaks(
 }
 
 /// The decision, given the place of highest necessity `best` (ties: higher support, then lower
-/// index) and the highest support (only compared with the threshold), over `n ≥ 1` places.
-fn decide_from(
+/// index) and the highest support (only compared with the threshold), over `n ≥ 1` places. The
+/// cascade every decision shares; its callers differ in how they found `best`.
+pub(crate) fn decide_from(
     d: &PlaceDistribution,
     p: DecisionParams,
     best: usize,

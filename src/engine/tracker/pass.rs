@@ -14,7 +14,7 @@
 //! used before (`PlaceDistribution::normalise`, `decide`); the tests compare them bit for bit.
 //! The columns hold degrees in `[0, 1]`: clamped inputs, and t-norms of them, so never NaN.
 
-use crate::logic::decision::{exceeds, reaches};
+use crate::logic::decision::decide_from;
 use crate::logic::{
     Decision, DecisionParams, Disoriented, Normalisation, PlaceDistribution, TNorm,
 };
@@ -313,46 +313,7 @@ pub(super) fn decide(
             .position(|&s| s == max_support)
             .unwrap_or(0)
     };
-    let nb = d.necessity.get(best).copied().unwrap_or(all);
-    let inc = d.inconsistency;
-    if reaches(nb, p.threshold) && exceeds(nb - inc, p.margin) {
-        return Decision::Place {
-            place: best,
-            necessity: nb,
-        };
-    }
-    if reaches(inc, p.threshold) {
-        return Decision::Disoriented(Disoriented::Inconsistent { inconsistency: inc });
-    }
-    if !reaches(nb, p.threshold) && !reaches(max_support, p.threshold) {
-        return Decision::Disoriented(Disoriented::NothingAboveThreshold {
-            best,
-            support: d.support.get(best).copied().unwrap_or(0.0),
-        });
-    }
-    if n == 1 {
-        return Decision::Disoriented(Disoriented::Inconsistent { inconsistency: inc });
-    }
-    Decision::Disoriented(Disoriented::TooClose {
-        best,
-        runner_up: runner_up(&d.possibility, &d.support, best),
-        necessity: nb,
-    })
-}
-
-/// The place `k ≠ best` of highest `π'_k`, ties to the higher support, then the lower index.
-fn runner_up(poss: &[f64], support: &[f64], best: usize) -> usize {
-    let mut r: Option<(usize, f64, f64)> = None;
-    for (k, (&pk, &sk)) in poss.iter().zip(support).enumerate() {
-        let beats = match r {
-            None => true,
-            Some((_, bp, bs)) => pk > bp || (pk == bp && sk > bs),
-        };
-        if k != best && beats {
-            r = Some((k, pk, sk));
-        }
-    }
-    r.map_or(0, |(k, _, _)| k)
+    decide_from(d, p, best, || max_support)
 }
 
 #[cfg(test)]
