@@ -81,6 +81,18 @@ pub enum Command {
     /// STREAM:LINE: reason), 2 for bad map, rules or labels, 1 when a file cannot be read or
     /// written.
     Survey(super::survey::SurveyArgs),
+    /// Draw a CARMEN log's laser scans at the log's poses (SVG), with a metre grid and the
+    /// map's place outlines over them: the picture to read a floor plan off.
+    ///
+    /// Beam end points are counted in cells (--cell) and the cells hit often enough drawn
+    /// (--min-hits); the grid is labelled in the log's frame, the coordinates a map's extents
+    /// are written in. In a corrected log the poses are the corrected ones and the scans draw
+    /// the walls. Exit 0, 3 when some log lines were malformed (each reported on stderr with
+    /// its line number; the picture is drawn from the others), 2 for bad flags, map or output
+    /// path, 1 when a file cannot be read or written.
+    ///
+    /// Example: lplace draw run.log --map my.map -o scans.svg
+    Draw(super::draw::DrawArgs),
     /// Evaluate percept streams as `eval` does and write one self-contained HTML page about
     /// them: summary, confusion matrix, place Π/N over time, trajectory, grid beliefs.
     ///

@@ -67,7 +67,7 @@ pub fn run(args: &ExtractArgs, out: &mut impl Write) -> Result<u8, CliError> {
 /// Opens the log; a gzipped one (told by its first two bytes, not its name) is read through
 /// the decoder, so that `run.log.gz` needs no unpacking. A corrupt stream ends the log with a
 /// line-numbered read error, as any read error does.
-fn open_log(path: &std::path::Path) -> Result<Box<dyn BufRead>, CliError> {
+pub(super) fn open_log(path: &std::path::Path) -> Result<Box<dyn BufRead>, CliError> {
     let read_err = |source| CliError::Read {
         path: path.display().to_string(),
         source,
@@ -95,16 +95,18 @@ pub(super) fn load_config(args: &ExtractArgs) -> Result<ExtractConfig, CliError>
 
 /// The `--map` whose place extents give the truth places, if given.
 pub(super) fn load_truth_map(args: &ExtractArgs) -> Result<Option<Map>, CliError> {
-    let Some(path) = &args.map else {
-        return Ok(None);
-    };
+    args.map.as_deref().map(read_map).transpose()
+}
+
+/// The map at `path`, its problems printed (as `check` prints them) when it has any.
+pub(super) fn read_map(path: &std::path::Path) -> Result<Map, CliError> {
     let src = read_source(path)?;
     let fail = |d: Vec<crate::syntax::diagnostic::Diagnostic>| {
         render::eprint(&src, &d);
         CliError::Diagnostics { count: d.len() }
     };
     let ast = parse_map(&src.text).map_err(fail)?;
-    Ok(Some(Map::from_ast(&ast).map_err(fail)?))
+    Map::from_ast(&ast).map_err(fail)
 }
 
 /// `extract --from mrclam DIR --robot N [--map MAP]`: one robot's files as a percept stream

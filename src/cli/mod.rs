@@ -21,6 +21,7 @@ mod check;
 mod compare;
 mod completions;
 mod data;
+mod draw;
 mod eval;
 mod explain;
 mod extract;
@@ -132,6 +133,7 @@ pub fn main() -> ExitCode {
         args::Command::Compare(a) => compare::run(&a, &mut out),
         args::Command::Fuse(a) => fuse::run(&a, &mut out),
         args::Command::Survey(a) => survey::run(&a, &mut out),
+        args::Command::Draw(a) => draw::run(&a),
         args::Command::Report(a) => report::run(&a, &mut out),
         args::Command::Completions(a) => completions::completions(&a, &mut out),
         args::Command::Man => completions::man(&mut out),

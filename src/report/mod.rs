@@ -9,11 +9,13 @@
 //! command line and the Python binding.
 //!
 //! `grid_svg` draws one frame of the Fuzzy Position Grid (`lplace grid --svg`), `sweep` the
-//! perturbation sweep of `lplace compare`; `axis` holds what the pictures share (round ticks,
+//! perturbation sweep of `lplace compare`, `scans` a laser log's scans at their poses with a
+//! map's places over them (`lplace draw`: the picture a floor plan is read off); `axis` holds what the pictures share (round ticks,
 //! the metre scale bar, the possibility colour scale).
 //!
 //! Depends on `logic` (decisions, distributions), `engine` (the run's engine and tracker),
-//! `grid` (the plane drawn by `grid_svg`) and `io::stream` (frame meta data, rejections);
+//! `grid` (the plane drawn by `grid_svg`), `io::stream` (frame meta data, rejections) and
+//! `io::carmen` (the scans `scans` draws);
 //! nothing depends on it except the command line and the Python binding.
 
 pub mod axis;
@@ -22,6 +24,7 @@ pub mod grid_svg;
 pub mod html;
 pub mod plot;
 pub mod run;
+pub mod scans;
 pub mod summary;
 pub mod sweep;
 pub mod trajectory;

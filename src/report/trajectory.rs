@@ -125,9 +125,9 @@ pub fn svg(map: &Map, points: &[TrajectoryPoint], scale: f64, title: &str) -> St
 /// A label's anchor (middle of its baseline, pixels) and its estimated size: labels are 11 px
 /// sans-serif, whose characters average under 7 px.
 #[derive(Debug, Clone, Copy)]
-struct LabelBox {
-    x: f64,
-    y: f64,
+pub(super) struct LabelBox {
+    pub(super) x: f64,
+    pub(super) y: f64,
     half_width: f64,
 }
 
@@ -144,7 +144,7 @@ impl LabelBox {
 /// Where the label `name` of a place drawn at `(x, y)` goes: on the centre if that is free, else
 /// the first free spot of a ring around it, else below every label it would hit (greedy: the
 /// places' declaration order decides who keeps the centre).
-fn place_label(x: f64, y: f64, name: &str, placed: &[LabelBox]) -> LabelBox {
+pub(super) fn place_label(x: f64, y: f64, name: &str, placed: &[LabelBox]) -> LabelBox {
     let half_width = CHAR_PX * name.chars().count() as f64 / 2.0 + 1.0;
     let at = |dx: f64, dy: f64| LabelBox {
         x: x + dx,

@@ -510,3 +510,137 @@ fn mrclam_robot1_sweep_names_data_set_and_robot() {
     let set = dir.file_name().unwrap().to_string_lossy().into_owned();
     assert!(title.contains(&set) && title.contains("robot 1"), "{title}");
 }
+
+/// A CARMEN log of a robot at `(x, 0)`, x = 0, 1, 2, facing +x, whose 180 beams all read 2 m
+/// (a round room around each pose), then a FLASER line cut short.
+fn round_room_log() -> String {
+    let mut log = String::from("PARAM robot_frontlaser_offset 0.0 nohost 0\n");
+    for k in 0..3 {
+        let ranges = vec!["2.0"; 180].join(" ");
+        log.push_str(&format!(
+            "FLASER 180 {ranges} {k}.0 0.0 0.0 {k}.0 0.0 0.0 {k}.5 host {k}.5\n"
+        ));
+    }
+    log.push_str("FLASER 180 1.0 2.0\n");
+    log
+}
+
+#[test]
+fn draw_pictures_a_log_with_its_places_and_reports_bad_lines() {
+    let log = temp("room.log", &round_room_log());
+    let map = temp(
+        "room.map",
+        "map m; place A corridor at (1, 0) extent box (0, -1, 2, 1); \
+         place B corridor at (4, 0) extent box (3, -1, 5, 1) rotated 30; path A -- B;",
+    );
+    let svg = log.with_extension("svg");
+    let out = lplace()
+        .args(["draw"])
+        .arg(&log)
+        .arg("--map")
+        .arg(&map)
+        .arg("-o")
+        .arg(&svg)
+        .arg("--min-hits")
+        .arg("1")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    // The short line is reported with its number and skipped; the three scans are drawn.
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert!(err.contains("line 5"), "{err}");
+    assert!(err.contains("3 of 3 scan(s) drawn"), "{err}");
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let els = elements(&text);
+    // One rectangle per run of cells: the three circles of radius 2 cross rows many times,
+    // each run at most one circle's width.
+    let hits: Vec<&(String, String, String)> = els
+        .iter()
+        .skip_while(|e| !e.1.contains("class=\"hits\""))
+        .skip(1)
+        .take_while(|e| e.0 == "rect")
+        .collect();
+    assert!(hits.len() > 20, "{} hit rectangles", hits.len());
+    let width = attr(&els[0].1, "width").unwrap();
+    for (_, tag, _) in &hits {
+        let (x, w) = (attr(tag, "x").unwrap(), attr(tag, "width").unwrap());
+        assert!(x >= 0.0 && x + w <= width && w <= 4.1 * 20.0 + 0.1, "{tag}");
+    }
+    // A's box is a rect, B's rotated box a polygon; both named.
+    let places: Vec<_> = els
+        .iter()
+        .skip_while(|e| !e.1.contains("class=\"places\""))
+        .skip(1)
+        .take(2)
+        .map(|e| e.0.as_str())
+        .collect();
+    assert_eq!(places, ["rect", "polygon"]);
+    for name in ["A", "B"] {
+        assert!(els
+            .iter()
+            .any(|e| e.1.contains("place-label") && e.2 == name));
+    }
+    // Over its own input, or with a cell under a centimetre: refused before anything is read.
+    for bad in [
+        vec!["-o".to_string(), log.display().to_string()],
+        vec![
+            "-o".into(),
+            svg.display().to_string(),
+            "--cell".into(),
+            "0".into(),
+        ],
+        vec![
+            "-o".into(),
+            svg.display().to_string(),
+            "--every".into(),
+            "0".into(),
+        ],
+    ] {
+        let out = lplace().arg("draw").arg(&log).args(&bad).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{bad:?}");
+    }
+    assert_eq!(std::fs::read_to_string(&log).unwrap(), round_room_log());
+    for p in [log, map, svg] {
+        let _ = std::fs::remove_file(p);
+    }
+}
+
+#[test]
+fn draw_of_the_intel_log_outlines_every_place_of_its_floor_plan() {
+    let log = crate::support::data_dir().join("carmen-corrected-logs/intel-corrected.log");
+    if !log.is_file() {
+        eprintln!("SKIP: {} not found (set LPLACE_DATA)", log.display());
+        return;
+    }
+    let svg = std::env::temp_dir().join(format!("lplace-draw-intel-{}.svg", std::process::id()));
+    let repo = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let out = lplace()
+        .arg("draw")
+        .arg(&log)
+        .arg("--map")
+        .arg(repo.join("maps/intel-plan.map"))
+        .arg("-o")
+        .arg(&svg)
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let labels = elements(&text)
+        .into_iter()
+        .filter(|e| e.1.contains("place-label"))
+        .count();
+    let places = std::fs::read_to_string(repo.join("maps/intel-plan.map"))
+        .unwrap()
+        .lines()
+        .filter(|l| l.trim_start().starts_with("place "))
+        .count();
+    assert!(places >= 19, "{places}");
+    assert_eq!(labels, places);
+    assert!(text.contains("910 of 910 scans"));
+    let _ = std::fs::remove_file(svg);
+}
