@@ -260,6 +260,11 @@ pub struct EvalArgs {
     /// per frame is kept until the end.
     #[arg(long, value_name = "FILE")]
     pub trajectory_svg: Option<PathBuf>,
+    /// Ground truth from a CSV `t,place` (header optional; an empty place is "between
+    /// places") instead of the records' own: each frame takes the label nearest its time,
+    /// within 0.5 s, and a frame with none has no truth. Every place named must be the map's.
+    #[arg(long, value_name = "CSV", conflicts_with = "frame")]
+    pub labels: Option<PathBuf>,
     /// Old spelling of --svg.
     #[arg(long, value_name = "SVG", hide = true, conflicts_with = "svg")]
     pub plot: Option<PathBuf>,

@@ -47,6 +47,7 @@ pub fn run(args: &EvalArgs, streams: &[PathBuf], out: &mut impl Write) -> Result
         ("--trajectory-svg", args.trajectory_svg().is_some()),
         ("--degrees", args.degrees),
         ("--query", !args.query.is_empty()),
+        ("--labels", args.labels.is_some()),
     ] {
         if set {
             return Err(ArgError::NotInBatch(flag).into());

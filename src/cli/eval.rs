@@ -21,6 +21,7 @@ use crate::logic::{Decision, PlaceDistribution, PlaceSet};
 use crate::report::summary::reason_name;
 use crate::report::trajectory::{self, TrajectoryPoint, Verdict};
 use crate::report::{RunPlot, StreamRun};
+use crate::survey::{nearest_label, LabelRow};
 use std::io::{BufRead, Write};
 use std::path::{Path, PathBuf};
 
@@ -505,6 +506,55 @@ pub(super) struct Source {
     format: StreamFormat,
     /// How its times are read (`--time`).
     pub(super) time: crate::io::stream::TimePolicy,
+    /// Ground truth replacing the records' own (`--labels`).
+    pub(super) labels: Option<Labels>,
+}
+
+/// Ground truth from `--labels`: each frame's true place is the label nearest its time within
+/// 0.5 s ([`nearest_label`], as `survey --labels` reads them), none when there is no such
+/// label; the record's own truth place is not read. The pose, if any, is kept.
+pub(super) struct Labels {
+    rows: Vec<LabelRow>,
+    /// Each row's place as an index into the run's places.
+    places: Vec<Option<usize>>,
+}
+
+impl Labels {
+    /// Reads the CSV at `path`; every place it names must be one of `places`.
+    pub(super) fn load(path: &Path, places: &[String]) -> Result<Labels, CliError> {
+        let rows = super::survey::read_labels(path)?;
+        let mut index = Vec::with_capacity(rows.len());
+        for row in &rows {
+            index.push(match &row.place {
+                None => None,
+                Some(name) => match places.iter().position(|p| p == name) {
+                    Some(k) => Some(k),
+                    None => {
+                        eprintln!(
+                            "{}: no place `{name}` in the map (places: {})",
+                            path.display(),
+                            places.join(", ")
+                        );
+                        return Err(CliError::Diagnostics { count: 1 });
+                    }
+                },
+            });
+        }
+        Ok(Labels {
+            rows,
+            places: index,
+        })
+    }
+
+    /// `meta` with its truth place taken from the labels.
+    fn apply(&self, meta: &FrameMeta) -> FrameMeta {
+        let k = meta.t.and_then(|t| nearest_label(&self.rows, t));
+        FrameMeta {
+            truth_known: k.is_some(),
+            truth_place: k.and_then(|k| self.places[k]),
+            ..*meta
+        }
+    }
 }
 
 /// Opens `path` (the bundled office recording for `None`); `--input` overrides the form the
@@ -536,6 +586,7 @@ pub(super) fn open_source(
         size,
         format,
         time: Default::default(),
+        labels: None,
     })
 }
 
@@ -550,6 +601,7 @@ pub(super) fn evaluate(
     let reader =
         StreamReader::new(source.input, run.schema(), source.format).with_time_policy(source.time);
     let name = source.name;
+    let labels = source.labels;
     let show_progress = |r: &StreamReader<_>| {
         if let Some(bar) = &progress {
             if r.lines_read() % 4096 == 0 {
@@ -574,6 +626,14 @@ pub(super) fn evaluate(
                     run.reject(&e.reason);
                 }
                 Record::Frame(frame, meta) => {
+                    let relabelled;
+                    let meta = match &labels {
+                        Some(l) => {
+                            relabelled = l.apply(meta);
+                            &relabelled
+                        }
+                        None => meta,
+                    };
                     if let Some(note) = meta.restart_note() {
                         let msg = super::stream_input::note(&name, &note);
                         super::progress::eprint(progress.as_ref(), &msg);
@@ -652,6 +712,7 @@ fn inputs(args: &EvalArgs) -> Vec<(&'static str, &Path)> {
     let mut v = super::simulate::model_inputs(&args.model);
     v.extend(args.stream.iter().map(|p| ("STREAM", p.as_path())));
     v.extend(args.tracker.as_deref().map(|p| ("--tracker", p)));
+    v.extend(args.labels.as_deref().map(|p| ("--labels", p)));
     v
 }
 
@@ -701,6 +762,10 @@ fn run_one(args: &EvalArgs, path: Option<&Path>, out: &mut dyn Write) -> Result<
     let run = new_run(args)?;
     let mut source = open_source(path, args.input)?;
     source.time = args.time.into();
+    source.labels = match &args.labels {
+        Some(p) => Some(Labels::load(p, run.places())?),
+        None => None,
+    };
     let queries = resolve_queries(run.engine(), &args.query)?;
     let places = run.places().to_vec();
     let mut pictures = Pictures::new(args, run.engine(), &places, &source.name);

@@ -168,7 +168,7 @@ fn read_frames(survey: &Survey, path: &Path) -> Result<Records, CliError> {
 }
 
 /// The rows of the labels CSV at `path` ([`parse_labels`]).
-fn read_labels(path: &Path) -> Result<Vec<LabelRow>, CliError> {
+pub(super) fn read_labels(path: &Path) -> Result<Vec<LabelRow>, CliError> {
     let src = read_source(path)?;
     parse_labels(&src.text).map_err(|e| {
         if let SurveyError::LabelRow { line } = e {

@@ -39,7 +39,8 @@ use crate::syntax::ast::{Feature, Formula, MapFile, MapItem, RuleFile, RuleItem,
 mod run;
 
 pub use run::{
-    label_frames, parse_labels, LabelRow, PlaceReport, Records, Survey, SurveyOutcome, Truth,
+    label_frames, nearest_label, parse_labels, LabelRow, PlaceReport, Records, Survey,
+    SurveyOutcome, Truth,
 };
 
 /// A percept feeding a map parameter (from the rules).

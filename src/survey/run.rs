@@ -123,23 +123,31 @@ pub fn parse_labels(text: &str) -> Result<Vec<LabelRow>, SurveyError> {
 /// Each frame's label: the row nearest its time, if within 0.5 s. Rows need not be sorted;
 /// rows with a non-finite time are ignored.
 pub fn label_frames(frames: &[FrameRecord], rows: &[LabelRow]) -> Vec<Option<String>> {
-    let mut rows: Vec<&LabelRow> = rows.iter().filter(|r| r.t.is_finite()).collect();
+    let mut rows: Vec<LabelRow> = rows.iter().filter(|r| r.t.is_finite()).cloned().collect();
     rows.sort_by(|a, b| a.t.total_cmp(&b.t));
     frames
         .iter()
         .map(|f| {
-            let t = f.t?;
-            let i = rows.partition_point(|r| r.t < t);
-            let near = [i.checked_sub(1), Some(i)]
-                .into_iter()
-                .flatten()
-                .filter_map(|k| rows.get(k))
-                .min_by(|a, b| (a.t - t).abs().total_cmp(&(b.t - t).abs()))?;
-            ((near.t - t).abs() <= 0.5)
-                .then(|| near.place.clone())
-                .flatten()
+            let k = nearest_label(&rows, f.t?)?;
+            rows[k].place.clone()
         })
         .collect()
+}
+
+/// The index of the row of `rows` (sorted by time, as [`parse_labels`] returns them) nearest
+/// `t`, if it lies within 0.5 s of it: a frame's label (halfway between two rows, the
+/// earlier).
+///
+/// # Complexity
+/// `O(log n)`.
+pub fn nearest_label(rows: &[LabelRow], t: f64) -> Option<usize> {
+    let i = rows.partition_point(|r| r.t < t);
+    let k = [i.checked_sub(1), Some(i)]
+        .into_iter()
+        .flatten()
+        .filter(|&k| k < rows.len())
+        .min_by(|&a, &b| (rows[a].t - t).abs().total_cmp(&(rows[b].t - t).abs()))?;
+    ((rows[k].t - t).abs() <= 0.5).then_some(k)
 }
 
 /// Where each frame's true place comes from.

@@ -790,3 +790,69 @@ fn extract_reads_a_gzipped_log_as_the_plain_one() {
     let err = String::from_utf8_lossy(&cut.stderr);
     assert!(err.contains("room.log"), "{err}");
 }
+
+/// `eval --labels`: the truth of every frame is the label nearest its time; frames with no
+/// label within 0.5 s have none; a place the map lacks is an error before any frame is read.
+#[test]
+fn labels_replace_the_records_truth() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let rec = format!("{root}/recordings/office.jsonl");
+    let times: Vec<f64> = std::fs::read_to_string(&rec)
+        .unwrap()
+        .lines()
+        .map(|l| {
+            serde_json::from_str::<serde_json::Value>(l).unwrap()["t"]
+                .as_f64()
+                .unwrap()
+        })
+        .collect();
+    // The decisions without labels: how many name P0.
+    let plain = lplace().arg("eval").arg(&rec).output().unwrap();
+    let decided_p0 = String::from_utf8_lossy(&plain.stdout)
+        .lines()
+        .filter(|l| l.contains("\"place\":\"P0\""))
+        .count();
+    assert!(decided_p0 > 0);
+    let summary = |labels: &PathBuf| -> serde_json::Value {
+        let out = lplace()
+            .arg("eval")
+            .arg(&rec)
+            .arg("--labels")
+            .arg(labels)
+            .args(["--only-summary", "--summary", "json"])
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone();
+        serde_json::from_slice(&out).unwrap()
+    };
+    // One label a second, all P0, over the whole run: every frame is at P0.
+    let all: String = (0..=250).map(|s| format!("{s},P0\n")).collect();
+    let v = summary(&temp("all-p0.csv", &format!("t,place\n{all}")));
+    assert_eq!(v["truth"]["at_place"], times.len());
+    assert_eq!(v["truth"]["correct"], decided_p0);
+    assert_eq!(v["truth"]["between_places"], 0);
+    // Labels up to 100 s, the first half of them "between places": the later frames have no
+    // truth, and those within 0.5 s of the last label are labelled.
+    let half: String = (0..=100)
+        .map(|s| format!("{s},{}\n", if s < 50 { "" } else { "P3" }))
+        .collect();
+    let v = summary(&temp("half.csv", &half));
+    let labelled = times.iter().filter(|&&t| t <= 100.5).count();
+    // Halfway between two labels (49.5 s) the earlier one holds.
+    let between = times.iter().filter(|&&t| t <= 49.5).count();
+    assert_eq!(v["truth"]["between_places"], between);
+    assert_eq!(v["truth"]["at_place"], labelled - between);
+    // A place the map does not have.
+    let bad = temp("bad.csv", "0,P0\n1,Kitchen\n");
+    let out = lplace()
+        .arg("eval")
+        .arg(&rec)
+        .arg("--labels")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no place `Kitchen`"));
+}
