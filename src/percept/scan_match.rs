@@ -8,9 +8,9 @@
 //! neighbours about a degree away on either side are valid, near and on one line with it
 //! carries the unit normal of that line. The current scan's kept points `q` are moved by the
 //! motion estimate `(t, θ)` and paired with the nearest reference point `p` within a gate (a
-//! grid of gate-sized cells, so that a query looks at nine cells); each pair's residual is the
-//! distance to the reference's line, `r = n · (R(θ) q + t − p)`. A damped Gauss–Newton step on
-//! `(t_x, t_y, θ)` minimises `Σ w r²` with Cauchy weights `w = 1 / (1 + (r/σ)²)`
+//! grid of cells `min_pair_m` wide: a query looks at the cells within the gate of its own);
+//! each pair's residual is the distance to the reference's line, `r = n · (R(θ) q + t − p)`. A damped Gauss–Newton step
+//! on `(t_x, t_y, θ)` minimises `Σ w r²` with Cauchy weights `w = 1 / (1 + (r/σ)²)`
 //! (`σ = max_rms_m`: a pair far off the line, clutter or a wall seen only from one side,
 //! weighs little). The gate shrinks from `max_pair_m` to `min_pair_m` over the first
 //! iterations, so that a start a metre off still finds its pairs and the end pairs only
@@ -19,17 +19,19 @@
 //! Odometry can turn 30° wrong between two scans (the CSAIL log), and from so far off the
 //! pairs of an ICP lead it astray; so it starts from the odometry's motion *and* from each
 //! candidate turn of the scans' own line-direction correlation
-//! ([`super::scan_rotation::rotation_candidates`]), each with the odometry's translation, and
-//! keeps the start that ends with the most points on a reference line.
+//! ([`super::scan_rotation::rotation_candidates`]), each with the odometry's translation (a
+//! start within 2° of an earlier one is skipped), and keeps a start that converged over one
+//! that did not, then the one that ends with the most points on a reference line.
 //!
 //! # Acceptance
-//! A match is taken only when it converged (the last step moved less than 1 cm and 0.1°), at least `min_overlap` of the current scan's kept points lie within
-//! `min_pair_m` of a reference point and within `2σ` of its line, their weighted RMS residual
-//! is at most `max_rms_m`, and the normals constrain every direction of the motion: the
-//! smallest eigenvalue of the normal matrix (per unit weight, the turn in metres at the
-//! points' RMS distance) is at least `min_constraint` (a corridor's parallel walls leave the
-//! motion along it free; a round room seen from its centre, the turn). Otherwise the caller
-//! keeps the odometry.
+//! A match is taken only when it converged (the last step moved less than 1 cm and 0.1°), at
+//! least `min_overlap` of the current scan's kept points lie within `min_pair_m` of a reference
+//! point and within `2σ` of its line, their weighted RMS residual is at most `max_rms_m`, and
+//! the normals constrain every direction of the motion: the smallest eigenvalue of the normal
+//! matrix (per unit weight, the turn in metres at the points' RMS distance) is at least
+//! `min_constraint` (a corridor's parallel walls leave the motion along it free; a round room
+//! seen from its centre, the turn), or, when only its turn is used, the turn alone
+//! ([`Match::turn_constraint`]). Otherwise the caller keeps the odometry.
 
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 
@@ -152,8 +154,8 @@ impl ScanMatcher {
             }
             _ => None,
         };
-        // The current scan (all its kept points, with a normal or not, are pairs' candidates
-        // only through their normals) becomes the reference.
+        // The current scan becomes the reference (only its points with a normal are indexed:
+        // a pair needs the reference's line).
         std::mem::swap(&mut self.ref_points, &mut self.cur);
         std::mem::swap(&mut self.ref_normals, &mut self.cur_normals);
         self.has_ref = !self.ref_points.is_empty();
