@@ -705,4 +705,34 @@ mod tests {
         assert_eq!(q.odometry_from_scan_poses, 0, "{q}");
         assert!(!q.to_string().contains("own poses"), "{q}");
     }
+
+    #[test]
+    fn the_turn_between_scans_is_scored_against_the_true_turn() {
+        // The robot drives straight through the room (the scans and the true poses never
+        // turn) while each ODOM reading says it turned 8° since the previous scan's odom pose
+        // (whose angle is 0 in every FLASER line): the odometry's turn is 8° wrong on every
+        // step, the scan match's (the travelling settings) right on every one.
+        let mut log = String::new();
+        for (k, line) in square_room_log(6, 0.0).lines().enumerate() {
+            if k > 0 {
+                let x = -1.0 + 0.3 * k as f64;
+                let theta = 8f64.to_radians();
+                log.push_str(&format!("ODOM {x} 0 {theta} 0 0 0 {k}.0 host {k}.0\n"));
+            }
+            log.push_str(line);
+            log.push('\n');
+        }
+        let q = quality_of(&log, true);
+        assert_eq!(q.scan_matches, Some((5, 5)), "{q}");
+        assert_eq!(q.truth_turn_within_2_share, Some((1.0, 0.0)), "{q}");
+        assert!(
+            q.to_string().contains(
+                "within 2° of the true poses' on 100.0 % of steps (the odometry's: 0.0 %)"
+            ),
+            "{q}"
+        );
+        // Without true poses there is no true turn.
+        let q = quality_of(&log, false);
+        assert_eq!(q.truth_turn_within_2_share, None);
+    }
 }
