@@ -80,6 +80,11 @@ struct QualityCounts {
     /// own odom poses because no `ODOM` reading came between them.
     steps: u64,
     from_scan_poses: u64,
+    /// The previous frame's true heading, radians, when it had one.
+    prev_truth_theta: Option<f64>,
+    /// Per step with two true poses and a compass turn, the size of the compass's and of
+    /// the raw odometry's turn error against the true turn, degrees.
+    turn_errors: Vec<(f64, f64)>,
 }
 
 /// Quality figures of an extraction, from the stream alone (no ground truth): how densely the
@@ -122,6 +127,14 @@ pub struct ExtractQuality {
     /// With `compass.scan_rotation`, the odometry steps whose turn came from the scans and all
     /// the steps the tracker took; `None` without it.
     pub scan_turns: Option<(u64, u64)>,
+    /// With `compass.scan_match`, the odometry steps whose motion came from an accepted scan
+    /// match and all the steps it was tried on; `None` without it.
+    pub scan_matches: Option<(u64, u64)>,
+    /// Of the steps between two frames with true poses, the share whose turn (the one the
+    /// heading's prediction took: the scans' or the odometry's) is within 2° of the true
+    /// turn, and the same share for the raw odometry's turn; `None` without true poses or
+    /// without a heading.
+    pub truth_turn_within_2_share: Option<(f64, f64)>,
 }
 
 impl std::fmt::Display for ExtractQuality {
@@ -151,8 +164,24 @@ impl std::fmt::Display for ExtractQuality {
                 100.0 * within
             )?;
         }
+        if let Some((compass, odometry)) = self.truth_turn_within_2_share {
+            write!(
+                f,
+                "; turn between scans within 2° of the true poses' on {:.1} % of steps (the \
+                 odometry's: {:.1} %)",
+                100.0 * compass,
+                100.0 * odometry
+            )?;
+        }
         if let Some((from_scans, steps)) = self.scan_turns {
             write!(f, "; turn from the scans on {from_scans} of {steps} steps")?;
+        }
+        if let Some((matched, steps)) = self.scan_matches {
+            write!(
+                f,
+                "; motion from the scan match on {matched} of {steps} steps (the odometry's on \
+                 the others)"
+            )?;
         }
         if self.odometry_from_scan_poses > 0 {
             write!(
@@ -232,6 +261,43 @@ impl<'m> CarmenFramer<'m> {
                 .as_ref()
                 .filter(|c| c.config().scan_rotation)
                 .map(CompassTracker::scan_turns),
+            scan_matches: self
+                .compass
+                .as_ref()
+                .filter(|c| c.config().scan_match)
+                .map(CompassTracker::scan_matches),
+            truth_turn_within_2_share: (!q.turn_errors.is_empty()).then(|| {
+                let n = q.turn_errors.len() as u64;
+                let within = |f: fn(&(f64, f64)) -> f64| {
+                    q.turn_errors.iter().filter(|e| f(e) <= 2.0).count() as u64
+                };
+                (share(within(|e| e.0), n), share(within(|e| e.1), n))
+            }),
+        }
+    }
+
+    /// Counts the frame's heading and turn errors against its true pose `truth` (radians)
+    /// for [`Self::quality`].
+    fn count_truth(&mut self, heading: Option<f64>, odometry: Option<&Pose2>, truth: Option<f64>) {
+        let q = &mut self.quality;
+        let prev = std::mem::replace(&mut q.prev_truth_theta, truth);
+        let Some(truth) = truth else {
+            return;
+        };
+        if let Some(h) = heading {
+            let error = wrap_180(h - truth.to_degrees()).abs();
+            if error.is_finite() {
+                q.truth_errors.push(error);
+            }
+        }
+        let turn = self.compass.as_ref().and_then(CompassTracker::last_turn);
+        if let (Some(prev), Some(turn), Some(d)) = (prev, turn, odometry) {
+            let true_turn = truth - prev;
+            let compass = wrap_pi(turn - true_turn).to_degrees().abs();
+            let odometry = wrap_pi(d.theta - true_turn).to_degrees().abs();
+            if compass.is_finite() && odometry.is_finite() {
+                q.turn_errors.push((compass, odometry));
+            }
         }
     }
 
@@ -390,12 +456,8 @@ impl<'m> CarmenFramer<'m> {
             .map(|p| wrap_180(p.theta.to_degrees()));
         self.count_quality(odometry.as_ref(), &free[..n_free]);
         let truth = self.truth(scan);
-        if let (Some(h), Some(p)) = (heading, truth.as_ref().and_then(|t| t.pose)) {
-            let error = wrap_180(h - p[2]).abs();
-            if error.is_finite() {
-                self.quality.truth_errors.push(error);
-            }
-        }
+        let true_theta = truth.as_ref().and(Some(scan.pose.theta));
+        self.count_truth(heading, odometry.as_ref(), true_theta);
         self.frames += 1;
         // Scan `ipc_ts` occasionally steps back by a fraction of a second (4 times in the Intel
         // log) although lines are in chronological order (data README), and a stream's time
@@ -642,5 +704,35 @@ mod tests {
         let q = quality_of(&log, false);
         assert_eq!(q.odometry_from_scan_poses, 0, "{q}");
         assert!(!q.to_string().contains("own poses"), "{q}");
+    }
+
+    #[test]
+    fn the_turn_between_scans_is_scored_against_the_true_turn() {
+        // The robot drives straight through the room (the scans and the true poses never
+        // turn) while each ODOM reading says it turned 8° since the previous scan's odom pose
+        // (whose angle is 0 in every FLASER line): the odometry's turn is 8° wrong on every
+        // step, the scan match's (the travelling settings) right on every one.
+        let mut log = String::new();
+        for (k, line) in square_room_log(6, 0.0).lines().enumerate() {
+            if k > 0 {
+                let x = -1.0 + 0.3 * k as f64;
+                let theta = 8f64.to_radians();
+                log.push_str(&format!("ODOM {x} 0 {theta} 0 0 0 {k}.0 host {k}.0\n"));
+            }
+            log.push_str(line);
+            log.push('\n');
+        }
+        let q = quality_of(&log, true);
+        assert_eq!(q.scan_matches, Some((5, 5)), "{q}");
+        assert_eq!(q.truth_turn_within_2_share, Some((1.0, 0.0)), "{q}");
+        assert!(
+            q.to_string().contains(
+                "within 2° of the true poses' on 100.0 % of steps (the odometry's: 0.0 %)"
+            ),
+            "{q}"
+        );
+        // Without true poses there is no true turn.
+        let q = quality_of(&log, false);
+        assert_eq!(q.truth_turn_within_2_share, None);
     }
 }

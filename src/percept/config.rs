@@ -72,7 +72,8 @@ pub struct ExtractConfig {
 impl ExtractConfig {
     /// The settings `lplace extract` uses without `--config`: the defaults with the compass on
     /// (eight directions, each the longest of a 10° fan, the drift of the heading lock
-    /// corrected at gain 0.5) and the initial heading taken from the first scan's odometry —
+    /// corrected at gain 0.5, the motion between scans from the scan match where it holds) and
+    /// the initial heading taken from the first scan's odometry —
     /// nothing of one building, so that a new building needs only its map (whose `axis`
     /// statement gives the axis) and its log. `default()` keeps the compass off: it is what
     /// every field left out of a RON file falls back to.
@@ -84,6 +85,7 @@ impl ExtractConfig {
         c.directions = 8;
         c.fan_deg = 10.0;
         c.fan_step_deg = 5.0;
+        c.scan_match = true;
         cfg
     }
 

@@ -29,6 +29,7 @@ pub mod laser_line;
 pub mod layout;
 pub mod line_fit;
 pub mod scan;
+pub mod scan_match;
 pub mod scan_rotation;
 pub mod sonar_wall;
 

@@ -84,6 +84,30 @@ pub fn rotation_between(
     min_contrast: f64,
     smooth_deg: f64,
 ) -> Option<f64> {
+    let (start, rho, n) = correlation(prev, cur, around, window_deg)?;
+    let rho = &rho[..n];
+    let best = peak_of(rho, smooth_deg, min_contrast)?;
+    // The vertex of the parabola through the peak and its neighbours (both exist: the peak is
+    // inside the window), within half a degree of it.
+    let (l, m, r) = (rho[best - 1], rho[best], rho[best + 1]);
+    let curv = l - 2.0 * m + r;
+    let offset = if curv < 0.0 {
+        (0.5 * (l - r) / curv).clamp(-0.5, 0.5)
+    } else {
+        0.0
+    };
+    Some((start as f64 + best as f64 + offset).to_radians())
+}
+
+/// The normalised correlation `ρ(s)` of the module docs for the whole-degree shifts
+/// `start … start + n − 1` around `around` (radians) within `±window_deg`: `(start, ρ, n)`;
+/// `None` when either histogram is empty or `around` is not finite.
+fn correlation(
+    prev: &[f64; BINS],
+    cur: &[f64; BINS],
+    around: f64,
+    window_deg: f64,
+) -> Option<(i64, [f64; 2 * 89 + 1], usize)> {
     let norm =
         (cur.iter().map(|v| v * v).sum::<f64>() * prev.iter().map(|v| v * v).sum::<f64>()).sqrt();
     let centre = around.to_degrees();
@@ -104,18 +128,41 @@ pub fn rotation_between(
             .sum::<f64>()
             / norm;
     }
-    let rho = &rho[..n];
-    let best = peak_of(rho, smooth_deg, min_contrast)?;
-    // The vertex of the parabola through the peak and its neighbours (both exist: the peak is
-    // inside the window), within half a degree of it.
-    let (l, m, r) = (rho[best - 1], rho[best], rho[best + 1]);
-    let curv = l - 2.0 * m + r;
-    let offset = if curv < 0.0 {
-        (0.5 * (l - r) / curv).clamp(-0.5, 0.5)
-    } else {
-        0.0
+    Some((start, rho, n))
+}
+
+/// Up to `out.len()` candidate turns (radians) from the scan of histogram `prev` to that of
+/// `cur` within `±window_deg` of `around`: the local maxima of the correlation inside the
+/// window, highest first, each at least half as high above the window's floor as the
+/// highest. Unlike [`rotation_between`] it takes ambiguous peaks too: the caller tells them
+/// apart (the scan matcher, by the points). Returns how many were written.
+pub fn rotation_candidates(
+    prev: &[f64; BINS],
+    cur: &[f64; BINS],
+    around: f64,
+    window_deg: f64,
+    out: &mut [f64],
+) -> usize {
+    let Some((start, rho, n)) = correlation(prev, cur, around, window_deg) else {
+        return 0;
     };
-    Some((start as f64 + best as f64 + offset).to_radians())
+    let rho = &rho[..n];
+    let floor = rho.iter().copied().fold(f64::INFINITY, f64::min);
+    let mut peaks: Vec<(usize, f64)> = (1..n.saturating_sub(1))
+        .filter(|&j| rho[j] > rho[j - 1] && rho[j] >= rho[j + 1])
+        .map(|j| (j, rho[j]))
+        .collect();
+    peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let top = peaks.first().map_or(floor, |p| p.1);
+    let mut k = 0;
+    for &(j, height) in peaks.iter().take(out.len()) {
+        if height - floor < 0.5 * (top - floor) {
+            break;
+        }
+        out[k] = (start as f64 + j as f64).to_radians();
+        k += 1;
+    }
+    k
 }
 
 /// The index of the one clear peak of `rho`, if it has one (see the module docs).
@@ -263,6 +310,33 @@ mod tests {
         assert_eq!(
             rotation_between(&prev, &cur, 30f64.to_radians(), 35.0, 0.1, 0.0),
             None
+        );
+    }
+
+    #[test]
+    fn candidates_hold_every_clear_turn_highest_first() {
+        // Two wall directions in the previous scan (90° and 30°, the first twice as long), one
+        // at 50° now: turns of 40° and −20° both explain it, the 40° one better.
+        let mut prev = [0.0; BINS];
+        let mut cur = [0.0; BINS];
+        prev[90] = 2.0;
+        prev[30] = 1.0;
+        cur[50] = 1.0;
+        let mut out = [0.0; 3];
+        let n = rotation_candidates(&prev, &cur, 10f64.to_radians(), 35.0, &mut out);
+        let got: Vec<f64> = out[..n].iter().map(|t| t.to_degrees().round()).collect();
+        assert_eq!(got, vec![40.0, -20.0]);
+        // The second is under half the first's height above the floor: left out.
+        prev[30] = 0.4;
+        let n = rotation_candidates(&prev, &cur, 10f64.to_radians(), 35.0, &mut out);
+        assert_eq!(n, 1);
+        // No room for any, or no histogram: none.
+        assert_eq!(rotation_candidates(&prev, &cur, 0.0, 35.0, &mut []), 0);
+        let empty = [0.0; BINS];
+        assert_eq!(rotation_candidates(&empty, &cur, 0.0, 35.0, &mut out), 0);
+        assert_eq!(
+            rotation_candidates(&prev, &cur, f64::NAN, 35.0, &mut out),
+            0
         );
     }
 }
