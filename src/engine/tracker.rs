@@ -497,12 +497,15 @@ struct Gates {
     shape: [f64; 4],
     /// Each place's extent as a rounded box, for the displacement gates.
     extents: Vec<([f64; 4], f64)>,
-    /// The rows transposed: column `j` is `col_start[j]..col_start[j + 1]` of `col`, each entry
-    /// `(i, k)` a pair `k` of row `i` whose target is `j`, so that the anchors a place can
-    /// raise are found from the place ([`Tracker::revise`]). Pair indices fit `u32`: a map
-    /// with more pairs could not hold its rows in memory.
+    /// The rows transposed: column `j` is `col_start[j]..col_start[j + 1]` of `col` and
+    /// `col_length`, each entry the row `i` of a pair whose target is `j` and the pair's
+    /// `L'_ij`, so that the anchors a place can raise are found from the place
+    /// ([`Tracker::revise`]). The length is kept beside the row (4 bytes more per pair than a
+    /// pair index) because reading it through the pair index was a cache miss per pair, the
+    /// revision's largest cost at 10,000 places.
     col_start: Vec<usize>,
-    col: Vec<(u32, u32)>,
+    col: Vec<u32>,
+    col_length: Vec<f64>,
 }
 
 /// An extent as a box `[x_lo, x_hi, y_lo, y_hi]` with a rounding radius: a box is itself with
@@ -544,6 +547,7 @@ impl Gates {
                 .collect(),
             col_start: Vec::new(),
             col: Vec::new(),
+            col_length: Vec::new(),
         };
         let mut search = BoundedDijkstra::new();
         let mut row: Vec<(f64, usize)> = Vec::new();
@@ -598,14 +602,15 @@ impl Gates {
             start[j + 1] += start[j];
         }
         let mut next = start.clone();
-        self.col = vec![(0, 0); start[n]];
+        self.col = vec![0; start[n]];
+        self.col_length = vec![0.0; start[n]];
         for i in 0..n {
             for k in self.row(i) {
                 let Some(at) = next.get_mut(self.target[k] as usize) else {
                     continue;
                 };
-                if let Some(e) = self.col.get_mut(*at) {
-                    *e = (i as u32, u32::try_from(k).unwrap_or(u32::MAX));
+                if let (Some(e), Some(l)) = (self.col.get_mut(*at), self.col_length.get_mut(*at)) {
+                    (*e, *l) = (i as u32, self.length[k]);
                 }
                 *at += 1;
             }
@@ -613,11 +618,14 @@ impl Gates {
         self.col_start = start;
     }
 
-    /// The entries `(i, k)` of column `j` (empty when out of range).
-    fn column(&self, j: usize) -> &[(u32, u32)] {
+    /// The rows `i` of column `j` and their pairs' lengths `L'_ij` (empty when out of range).
+    fn column(&self, j: usize) -> (&[u32], &[f64]) {
         match (self.col_start.get(j), self.col_start.get(j + 1)) {
-            (Some(&a), Some(&b)) => self.col.get(a..b).unwrap_or(&[]),
-            _ => &[],
+            (Some(&a), Some(&b)) => (
+                self.col.get(a..b).unwrap_or(&[]),
+                self.col_length.get(a..b).unwrap_or(&[]),
+            ),
+            _ => (&[], &[]),
         }
     }
 
@@ -698,7 +706,9 @@ impl Gates {
         shape.degree(gap, 0.0)
     }
 
-    /// `R_ij` of pair `k` through `gate` (0 for a pair out of range).
+    /// `R_ij` of pair `k` through `gate` (0 for a pair out of range): the reference the step's
+    /// own reads of `R_ij` are tested against.
+    #[cfg(test)]
     fn reach(&self, gate: &Gate, k: usize) -> f64 {
         match gate {
             Gate::Path(s) => self
@@ -948,7 +958,9 @@ impl Tracker {
         let ds = odometry.distance();
         let ds = if ds.is_finite() { ds } else { 0.0 };
         for s in &mut self.since {
-            *s = (*s + ds).min(MAX_DISTANCE);
+            // `min` as a select (the same value, a NaN too), which costs less per place.
+            let x = *s + ds;
+            *s = if x < MAX_DISTANCE { x } else { MAX_DISTANCE };
         }
         self.carry_displacement(odometry, ds, heading);
         let w = self.evidence_weight(ds);
@@ -1128,10 +1140,20 @@ impl Tracker {
         self.supported_len = 0;
         // Some support reaches `anchor_support` exactly when the highest does.
         if max_support >= self.cfg.anchor_support {
-            let reach = d.support.iter().map(|&a| a >= self.cfg.anchor_support);
-            for (j, _) in reach.enumerate().filter(|&(_, r)| r) {
-                if let Some(slot) = self.supported.get_mut(self.supported_len) {
-                    (*slot, self.supported_len) = (j as u32, self.supported_len + 1);
+            let least = self.cfg.anchor_support;
+            // By blocks, each looked at without a branch per place first: a handful of places
+            // reach it.
+            for (c, block) in d.support.chunks(16).enumerate() {
+                if !block.iter().fold(false, |x, &a| x | (a >= least)) {
+                    continue;
+                }
+                for (j, &a) in block.iter().enumerate() {
+                    if a >= least {
+                        if let Some(slot) = self.supported.get_mut(self.supported_len) {
+                            let k = (16 * c + j) as u32;
+                            (*slot, self.supported_len) = (k, self.supported_len + 1);
+                        }
+                    }
                 }
             }
         }
@@ -1269,23 +1291,22 @@ impl Tracker {
     fn raise(&mut self, floor: f64) {
         self.touched_len = 0;
         for &(j, g) in self.hot.iter().take(self.hot_len) {
-            for &(i, k) in self.gates.column(j as usize) {
+            let (rows, lengths) = self.gates.column(j as usize);
+            for (&i, &l) in rows.iter().zip(lengths) {
                 let i = i as usize;
-                let (Some(&m), Some(&s), Some(&disp)) =
-                    (self.anchor.get(i), self.since.get(i), self.disp.get(i))
-                else {
-                    continue;
-                };
-                if m == 0.0 {
+                // A dead anchor first: most are, and it needs no more reads.
+                if !self.anchor.get(i).is_some_and(|&m| m != 0.0) {
                     continue;
                 }
-                let gate = self.gates.gate(&self.cfg, i, s, disp);
-                let r = match &gate {
+                let (Some(&s), Some(&disp)) = (self.since.get(i), self.disp.get(i)) else {
+                    continue;
+                };
+                let r = match self.gates.gate(&self.cfg, i, s, disp) {
                     // Column `j` holds the pairs whose target is `j`: the pair need not be read.
                     Gate::Displacement(moved, shape) => {
-                        self.gates.displacement_reach(moved, j, shape)
+                        self.gates.displacement_reach(&moved, j, &shape)
                     }
-                    Gate::Path(_) => self.gates.reach(&gate, k as usize),
+                    Gate::Path(s) => path_reach(self.gates.shape, s, l),
                 };
                 let term = r.min(g);
                 let Some(r) = self.raised.get_mut(i) else {
