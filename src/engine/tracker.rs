@@ -454,6 +454,13 @@ pub struct Tracker {
     in_near: Vec<bool>,
     /// Whether some displacement is known (so that a move without a heading has any to forget).
     disp_known: bool,
+    /// The places whose displacement was set since it was last forgotten (the first
+    /// `set_len`), so that a move without a heading forgets only those; `set_all` when they did
+    /// not fit (or after a reset, a restore or a refill), and every entry is forgotten. In a
+    /// walk without headings only the re-anchored places have one.
+    set: Vec<u32>,
+    set_len: usize,
+    set_all: bool,
     dist: PlaceDistribution,
     decision: Decision,
 }
@@ -801,8 +808,11 @@ struct Low {
 }
 
 /// Moves `end` to the first index of `xs` where `holds` fails, `holds` being true on a prefix of
-/// `xs` that contains `..end.at`: a few steps forward, then a binary search of the rest — the
-/// index [`slice::partition_point`] finds on the whole of `xs`.
+/// `xs` that contains `..end.at`: a few steps forward, then probes 8, 16, 32, … places further
+/// until one fails, and a binary search between the last two probes — the index
+/// [`slice::partition_point`] finds on the whole of `xs`. Probing near the cursor rather than
+/// halving the rest of the row keeps the reads in a few cache lines: a row's far end holds
+/// dozens of places per metre, so an end often moves past the eight steps in one frame.
 fn advance(xs: &[f64], end: &mut End, holds: impl Fn(f64) -> bool) {
     if !holds(end.next) {
         return;
@@ -816,9 +826,18 @@ fn advance(xs: &[f64], end: &mut End, holds: impl Fn(f64) -> bool) {
         k += 1;
         steps += 1;
         if steps == 8 {
+            // `holds` is true before `k`; find `hi` where it fails (or the end), then search
+            // between.
+            let mut span = 8;
+            let hi = loop {
+                match xs.get(k + span) {
+                    Some(&x) if holds(x) => (k, span) = (k + span + 1, 2 * span),
+                    _ => break (k + span).min(xs.len()),
+                }
+            };
             k += xs
-                .get(k..)
-                .map_or(0, |rest| rest.partition_point(|&x| holds(x)));
+                .get(k..hi)
+                .map_or(0, |part| part.partition_point(|&x| holds(x)));
             break;
         }
     }
@@ -904,6 +923,9 @@ impl Tracker {
             near_len: n,
             in_near: vec![true; n],
             disp_known: true,
+            set: vec![0; n],
+            set_len: 0,
+            set_all: true,
             dist: PlaceDistribution::new(n),
             decision: Decision::Disoriented(Disoriented::NoPlaces),
         };
@@ -919,6 +941,7 @@ impl Tracker {
         self.near_len = self.near.len();
         self.in_near.fill(true);
         self.disp_known = self.disp.iter().any(Option::is_some);
+        (self.set_len, self.set_all) = (0, true);
     }
 
     /// Forgets everything: every place equally possible.
@@ -994,6 +1017,12 @@ impl Tracker {
             if let (Some(m), Some(s), Some(d)) = (slots.0, slots.1, self.disp.get_mut(j)) {
                 (*m, *s, *d) = (pi, 0.0, Some([0.0; 2]));
                 self.disp_known = true;
+                mark(
+                    &mut self.set,
+                    &mut self.set_len,
+                    &mut self.set_all,
+                    j as u32,
+                );
             }
             if let (Some(false), Some(slot)) =
                 (self.in_near.get(j), self.near.get_mut(self.near_len))
@@ -1374,7 +1403,16 @@ impl Tracker {
                     }
                 }
                 None if self.disp_known => {
-                    self.disp.fill(None);
+                    if self.set_all {
+                        self.disp.fill(None);
+                    } else {
+                        for &j in self.set.iter().take(self.set_len) {
+                            if let Some(d) = self.disp.get_mut(j as usize) {
+                                *d = None;
+                            }
+                        }
+                    }
+                    (self.set_len, self.set_all) = (0, false);
                     self.disp_known = false;
                 }
                 None => {}
