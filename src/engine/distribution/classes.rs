@@ -4,7 +4,8 @@
 //! every place. So `π` and `π'` are computed once per class and copied to the columns, and only
 //! the places with a bound of their own — the members of the lowest set head and of the negated
 //! heads, and the most supported place, whose complement of the other supports differs — are
-//! computed one by one. The extremes of `π'` come from each class's first two places and those
+//! computed one by one (on maps with at least 8 places per class and place of its own: below,
+//! the pass over every place costs less). The extremes of `π'` come from each class's first two places and those
 //! places, pushed in place order: the same highest, the same first place of it, and the same
 //! highest of the others as a push of every place. Every column, the height and the extremes are
 //! those of the pass over every place (`min` and `max` are exact and order-free on these
@@ -118,8 +119,11 @@ pub(super) fn fill(
         .iter()
         .map(|&(_, h)| inp.members.of(h).len());
     let own_max = inp.members.of(h0).len() + negated.sum::<usize>() + 1;
-    let cl = &ex.classes;
-    if n == 0 || cl.own.len() != n || cl.first.len() != ex.degree.len() || own_max > OWN {
+    let (cl, m) = (&ex.classes, ex.degree.len());
+    // On a small map (the office's 8 places) the tables and the places of their own are no
+    // fewer than the places: the pass over every place costs less there.
+    let small = n < 8 * (m + own_max);
+    if small || cl.own.len() != n || cl.first.len() != m || own_max > OWN {
         return None;
     }
     let sup = supports(dist, inp);
