@@ -9,9 +9,11 @@
 //! lowest head get their own caps after it (see `named_sets::constrain_heads`: a place's cap is
 //! the lowest among the heads that leave it out). The second pass is
 //! [`PlaceDistribution::finish_bounded`]: `π`, the height, `π'`, `N`, and the extremes the
-//! decision reads. Every column holds the bits of the separate passes (`fill_raw`, the heads,
-//! `finish`), and the decision is `decide`'s: `min` and `max` are exact and order-free on these
-//! degrees, which are never NaN nor `−0`. Allocates nothing.
+//! decision reads. On a large map both go by exclusion class instead (`classes`): the first
+//! reads only the supports, the second copies each class's `β`, `π` and `π'` and computes the
+//! few places with a bound of their own. Every column holds the bits of the separate passes
+//! (`fill_raw`, the heads, `finish`), and the decision is `decide`'s: `min` and `max` are exact
+//! and order-free on these degrees, which are never NaN nor `−0`. Allocates nothing.
 
 mod classes;
 
