@@ -1,17 +1,17 @@
-//! The second pass of [`super::fill`] by exclusion class (issue 16): in a step without a set
-//! head on most places, a place's bound `t_k`, hence `π_k` and `π'_k`, is a function of its
-//! exclusion register alone — at 10,000 places 4 registers (one per wall configuration) serve
-//! every place. So `π` and `π'` are computed once per class and copied to the columns, and only
-//! the places with a bound of their own — the members of the lowest set head and of the negated
-//! heads, and the most supported place, whose complement of the other supports differs — are
-//! computed one by one (on maps with at least 8 places per class and place of its own: below,
-//! the pass over every place costs less). The extremes of `π'` come from each class's first two places and those
-//! places, pushed in place order: the same highest, the same first place of it, and the same
-//! highest of the others as a push of every place. Every column, the height and the extremes are
-//! those of the pass over every place (`min` and `max` are exact and order-free on these
-//! degrees, which are never NaN nor `−0`). Allocates nothing: every buffer is sized at load time,
-//! and a step with more classes or more places of their own than they hold takes the pass over
-//! every place.
+//! The second pass of [`super::fill`] by exclusion class (issue 16): a place's bound `t_k`,
+//! hence `π_k` and `π'_k`, is a function of its exclusion register alone but at a few places,
+//! and at 10,000 places 4 registers (one per wall configuration) serve every place. So `π` and
+//! `π'` are computed once per class and copied to the columns, and only the places with a bound
+//! of their own — the members of the lowest set head and of the negated heads, and the most
+//! supported place, whose complement of the other supports differs — are computed one by one.
+//! The extremes of `π'` come from each class's first two places and those places, pushed in
+//! place order: the same highest, the same first place of it, and the same highest of the
+//! others as a push of every place. Every column, the height and the extremes are those of the
+//! pass over every place (`min` and `max` are exact and order-free on these degrees, which are
+//! never NaN nor `−0`). Allocates nothing: every buffer is sized at load time, and a step with
+//! more classes or more places of their own than they hold takes the pass over every place, as
+//! does a map with fewer than 8 places per class and place of its own (the office's 8 places,
+//! one register each), where the tables cost more than the places.
 
 use super::{read, Exclusions, HeadScratch, Inputs};
 use crate::logic::possibility::{higher, lower, Peaks, Top2};
