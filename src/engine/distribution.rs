@@ -9,9 +9,13 @@
 //! lowest head get their own caps after it (see `named_sets::constrain_heads`: a place's cap is
 //! the lowest among the heads that leave it out). The second pass is
 //! [`PlaceDistribution::finish_bounded`]: `π`, the height, `π'`, `N`, and the extremes the
-//! decision reads. Every column holds the bits of the separate passes (`fill_raw`, the heads,
-//! `finish`), and the decision is `decide`'s: `min` and `max` are exact and order-free on these
-//! degrees, which are never NaN nor `−0`. Allocates nothing.
+//! decision reads. On a large map both go by exclusion class instead (`classes`): the first
+//! reads only the supports, the second copies each class's `β`, `π` and `π'` and computes the
+//! few places with a bound of their own. Every column holds the bits of the separate passes
+//! (`fill_raw`, the heads, `finish`), and the decision is `decide`'s: `min` and `max` are exact
+//! and order-free on these degrees, which are never NaN nor `−0`. Allocates nothing.
+
+mod classes;
 
 use super::compile::SetHead;
 use crate::logic::possibility::{higher, lower, Peaks, Top2};
@@ -63,6 +67,8 @@ pub(super) struct Exclusions {
     of_place: Vec<u32>,
     degree: Vec<f64>,
     bound: Vec<f64>,
+    /// The places of each distinct register, for the pass by class (`classes`).
+    classes: classes::Classes,
 }
 
 impl Exclusions {
@@ -78,9 +84,10 @@ impl Exclusions {
                     regs.len() as u32 - 1
                 })
             })
-            .collect();
+            .collect::<Vec<u32>>();
         let m = regs.len();
         Exclusions {
+            classes: classes::Classes::new(&of_place, m),
             regs,
             of_place,
             degree: vec![0.0; m],
@@ -138,6 +145,9 @@ pub(super) fn fill(
         return None;
     }
     sort_heads(inp, scratch);
+    if let Some(peaks) = classes::fill(dist, inp, scratch, ex, normalisation) {
+        return Some(peaks);
+    }
     let (c0, h0) = scratch.plain.first().copied().unwrap_or((1.0, usize::MAX));
     let mut sup = Top2::EMPTY;
     let mut t_max = ex.read(inp.regs, c0);
@@ -202,4 +212,101 @@ fn sort_heads(inp: &Inputs<'_>, scratch: &mut HeadScratch) {
         list.push((1.0 - degree, h));
     }
     scratch.plain.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::core::rng::SplitMix64;
+    use crate::engine::compile::GroundAtom;
+    use crate::logic::PlaceSet;
+
+    /// A register value: levels (ties), NaN, `−0` and values outside `[0, 1]`.
+    fn value(rng: &mut SplitMix64) -> f64 {
+        match rng.below(10) {
+            0 => f64::NAN,
+            1 => -0.0,
+            2 => [1.5, -0.3, f64::INFINITY][rng.below(3)],
+            3 | 4 => 0.0,
+            5 => 1.0,
+            6 => 0.5,
+            _ => rng.unit(),
+        }
+    }
+
+    fn head(rng: &mut SplitMix64, n: usize, reg: u32) -> SetHead {
+        let size = 1 + rng.below(n.min(6));
+        SetHead {
+            atom: GroundAtom {
+                name: "in_room".to_string(),
+                args: Vec::new(),
+            },
+            members: PlaceSet::from_indices(n, (0..size).map(|_| rng.below(n))),
+            negated: rng.chance(0.3),
+            group: 0,
+            reg,
+        }
+    }
+
+    fn bits(v: &[f64]) -> Vec<u64> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    /// The pass by class (`classes`) against the pass over every place, which a table of
+    /// classes too large to use forces: every column, the height and the extremes, bit for bit.
+    #[test]
+    fn the_pass_by_class_is_the_pass_over_every_place() {
+        let mut rng = SplitMix64::new(23);
+        let mut by_classes = 0;
+        for case in 0..3000 {
+            let n = 1 + rng.below(300);
+            let regs: Vec<f64> = (0..3 * n + 8).map(|_| value(&mut rng)).collect();
+            let reg = |rng: &mut SplitMix64| rng.below(regs.len() + 2) as u32;
+            let support: Vec<u32> = (0..n).map(|_| reg(&mut rng)).collect();
+            // A few distinct exclusion registers, as per wall configuration.
+            let shared: Vec<u32> = (0..1 + rng.below(4)).map(|_| reg(&mut rng)).collect();
+            let exclusion: Vec<u32> = (0..n)
+                .map(|_| match rng.chance(0.99) {
+                    true => shared[rng.below(shared.len())],
+                    false => reg(&mut rng),
+                })
+                .collect();
+            let heads: Vec<SetHead> = (0..rng.below(5))
+                .map(|_| {
+                    let r = reg(&mut rng);
+                    head(&mut rng, n, r)
+                })
+                .collect();
+            let members = HeadMembers::new(&heads);
+            let inp = Inputs {
+                regs: &regs,
+                support: &support,
+                heads: &heads,
+                members: &members,
+            };
+            let norm = [Normalisation::Min, Normalisation::Product][rng.below(2)];
+            let mut by_class = Exclusions::new(&exclusion);
+            let mut every = Exclusions::new(&exclusion);
+            every.classes = classes::Classes::new(&every.of_place, usize::MAX);
+            let (mut a, mut b) = (PlaceDistribution::new(n), PlaceDistribution::new(n));
+            let mut s = HeadScratch::new(heads.len());
+            sort_heads(&inp, &mut s);
+            let Some(pa) = classes::fill(&mut a, &inp, &s, &mut by_class, norm) else {
+                continue;
+            };
+            by_classes += 1;
+            let pb = fill(&mut b, &inp, &mut s, &mut every, norm).expect("fits");
+            let at = format!("case {case}");
+            assert_eq!(bits(&a.support), bits(&b.support), "{at}");
+            assert_eq!(bits(&a.exclusion), bits(&b.exclusion), "{at}");
+            assert_eq!(bits(&a.possibility_raw), bits(&b.possibility_raw), "{at}");
+            assert_eq!(bits(&a.possibility), bits(&b.possibility), "{at}");
+            assert_eq!(bits(&a.necessity), bits(&b.necessity), "{at}");
+            assert_eq!(a.height.to_bits(), b.height.to_bits(), "{at}");
+            let top = |t: &Top2| (t.best, t.first.to_bits(), t.second.to_bits());
+            assert_eq!(top(&pa.possibility), top(&pb.possibility), "{at}");
+            assert_eq!(top(&pa.support), top(&pb.support), "{at}");
+        }
+        assert!(by_classes > 1500, "only {by_classes} steps by class");
+    }
 }

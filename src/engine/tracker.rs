@@ -454,6 +454,13 @@ pub struct Tracker {
     in_near: Vec<bool>,
     /// Whether some displacement is known (so that a move without a heading has any to forget).
     disp_known: bool,
+    /// The places whose displacement was set since it was last forgotten (the first
+    /// `set_len`), so that a move without a heading forgets only those; `set_all` when they did
+    /// not fit (or after a reset, a restore or a refill), and every entry is forgotten. In a
+    /// walk without headings only the re-anchored places have one.
+    set: Vec<u32>,
+    set_len: usize,
+    set_all: bool,
     dist: PlaceDistribution,
     decision: Decision,
 }
@@ -497,12 +504,15 @@ struct Gates {
     shape: [f64; 4],
     /// Each place's extent as a rounded box, for the displacement gates.
     extents: Vec<([f64; 4], f64)>,
-    /// The rows transposed: column `j` is `col_start[j]..col_start[j + 1]` of `col`, each entry
-    /// `(i, k)` a pair `k` of row `i` whose target is `j`, so that the anchors a place can
-    /// raise are found from the place ([`Tracker::revise`]). Pair indices fit `u32`: a map
-    /// with more pairs could not hold its rows in memory.
+    /// The rows transposed: column `j` is `col_start[j]..col_start[j + 1]` of `col` and
+    /// `col_length`, each entry the row `i` of a pair whose target is `j` and the pair's
+    /// `L'_ij`, so that the anchors a place can raise are found from the place
+    /// ([`Tracker::revise`]). The length is kept beside the row (4 bytes more per pair than a
+    /// pair index) because reading it through the pair index was a cache miss per pair, the
+    /// revision's largest cost at 10,000 places.
     col_start: Vec<usize>,
-    col: Vec<(u32, u32)>,
+    col: Vec<u32>,
+    col_length: Vec<f64>,
 }
 
 /// An extent as a box `[x_lo, x_hi, y_lo, y_hi]` with a rounding radius: a box is itself with
@@ -544,6 +554,7 @@ impl Gates {
                 .collect(),
             col_start: Vec::new(),
             col: Vec::new(),
+            col_length: Vec::new(),
         };
         let mut search = BoundedDijkstra::new();
         let mut row: Vec<(f64, usize)> = Vec::new();
@@ -598,14 +609,15 @@ impl Gates {
             start[j + 1] += start[j];
         }
         let mut next = start.clone();
-        self.col = vec![(0, 0); start[n]];
+        self.col = vec![0; start[n]];
+        self.col_length = vec![0.0; start[n]];
         for i in 0..n {
             for k in self.row(i) {
                 let Some(at) = next.get_mut(self.target[k] as usize) else {
                     continue;
                 };
-                if let Some(e) = self.col.get_mut(*at) {
-                    *e = (i as u32, u32::try_from(k).unwrap_or(u32::MAX));
+                if let (Some(e), Some(l)) = (self.col.get_mut(*at), self.col_length.get_mut(*at)) {
+                    (*e, *l) = (i as u32, self.length[k]);
                 }
                 *at += 1;
             }
@@ -613,11 +625,14 @@ impl Gates {
         self.col_start = start;
     }
 
-    /// The entries `(i, k)` of column `j` (empty when out of range).
-    fn column(&self, j: usize) -> &[(u32, u32)] {
+    /// The rows `i` of column `j` and their pairs' lengths `L'_ij` (empty when out of range).
+    fn column(&self, j: usize) -> (&[u32], &[f64]) {
         match (self.col_start.get(j), self.col_start.get(j + 1)) {
-            (Some(&a), Some(&b)) => self.col.get(a..b).unwrap_or(&[]),
-            _ => &[],
+            (Some(&a), Some(&b)) => (
+                self.col.get(a..b).unwrap_or(&[]),
+                self.col_length.get(a..b).unwrap_or(&[]),
+            ),
+            _ => (&[], &[]),
         }
     }
 
@@ -698,7 +713,9 @@ impl Gates {
         shape.degree(gap, 0.0)
     }
 
-    /// `R_ij` of pair `k` through `gate` (0 for a pair out of range).
+    /// `R_ij` of pair `k` through `gate` (0 for a pair out of range): the reference the step's
+    /// own reads of `R_ij` are tested against.
+    #[cfg(test)]
     fn reach(&self, gate: &Gate, k: usize) -> f64 {
         match gate {
             Gate::Path(s) => self
@@ -791,8 +808,11 @@ struct Low {
 }
 
 /// Moves `end` to the first index of `xs` where `holds` fails, `holds` being true on a prefix of
-/// `xs` that contains `..end.at`: a few steps forward, then a binary search of the rest — the
-/// index [`slice::partition_point`] finds on the whole of `xs`.
+/// `xs` that contains `..end.at`: a few steps forward, then probes 8, 16, 32, … places further
+/// until one fails, and a binary search between the last two probes — the index
+/// [`slice::partition_point`] finds on the whole of `xs`. Probing near the cursor rather than
+/// halving the rest of the row keeps the reads in a few cache lines: a row's far end holds
+/// dozens of places per metre, so an end often moves past the eight steps in one frame.
 fn advance(xs: &[f64], end: &mut End, holds: impl Fn(f64) -> bool) {
     if !holds(end.next) {
         return;
@@ -806,9 +826,18 @@ fn advance(xs: &[f64], end: &mut End, holds: impl Fn(f64) -> bool) {
         k += 1;
         steps += 1;
         if steps == 8 {
+            // `holds` is true before `k`; find `hi` where it fails (or the end), then search
+            // between.
+            let mut span = 8;
+            let hi = loop {
+                match xs.get(k + span) {
+                    Some(&x) if holds(x) => (k, span) = (k + span + 1, 2 * span),
+                    _ => break (k + span).min(xs.len()),
+                }
+            };
             k += xs
-                .get(k..)
-                .map_or(0, |rest| rest.partition_point(|&x| holds(x)));
+                .get(k..hi)
+                .map_or(0, |part| part.partition_point(|&x| holds(x)));
             break;
         }
     }
@@ -894,6 +923,9 @@ impl Tracker {
             near_len: n,
             in_near: vec![true; n],
             disp_known: true,
+            set: vec![0; n],
+            set_len: 0,
+            set_all: true,
             dist: PlaceDistribution::new(n),
             decision: Decision::Disoriented(Disoriented::NoPlaces),
         };
@@ -909,6 +941,7 @@ impl Tracker {
         self.near_len = self.near.len();
         self.in_near.fill(true);
         self.disp_known = self.disp.iter().any(Option::is_some);
+        (self.set_len, self.set_all) = (0, true);
     }
 
     /// Forgets everything: every place equally possible.
@@ -948,7 +981,9 @@ impl Tracker {
         let ds = odometry.distance();
         let ds = if ds.is_finite() { ds } else { 0.0 };
         for s in &mut self.since {
-            *s = (*s + ds).min(MAX_DISTANCE);
+            // `min` as a select (the same value, a NaN too), which costs less per place.
+            let x = *s + ds;
+            *s = if x < MAX_DISTANCE { x } else { MAX_DISTANCE };
         }
         self.carry_displacement(odometry, ds, heading);
         let w = self.evidence_weight(ds);
@@ -982,6 +1017,12 @@ impl Tracker {
             if let (Some(m), Some(s), Some(d)) = (slots.0, slots.1, self.disp.get_mut(j)) {
                 (*m, *s, *d) = (pi, 0.0, Some([0.0; 2]));
                 self.disp_known = true;
+                mark(
+                    &mut self.set,
+                    &mut self.set_len,
+                    &mut self.set_all,
+                    j as u32,
+                );
             }
             if let (Some(false), Some(slot)) =
                 (self.in_near.get(j), self.near.get_mut(self.near_len))
@@ -1128,10 +1169,20 @@ impl Tracker {
         self.supported_len = 0;
         // Some support reaches `anchor_support` exactly when the highest does.
         if max_support >= self.cfg.anchor_support {
-            let reach = d.support.iter().map(|&a| a >= self.cfg.anchor_support);
-            for (j, _) in reach.enumerate().filter(|&(_, r)| r) {
-                if let Some(slot) = self.supported.get_mut(self.supported_len) {
-                    (*slot, self.supported_len) = (j as u32, self.supported_len + 1);
+            let least = self.cfg.anchor_support;
+            // By blocks, each looked at without a branch per place first: a handful of places
+            // reach it.
+            for (c, block) in d.support.chunks(16).enumerate() {
+                if !block.iter().fold(false, |x, &a| x | (a >= least)) {
+                    continue;
+                }
+                for (j, &a) in block.iter().enumerate() {
+                    if a >= least {
+                        if let Some(slot) = self.supported.get_mut(self.supported_len) {
+                            let k = (16 * c + j) as u32;
+                            (*slot, self.supported_len) = (k, self.supported_len + 1);
+                        }
+                    }
                 }
             }
         }
@@ -1269,23 +1320,22 @@ impl Tracker {
     fn raise(&mut self, floor: f64) {
         self.touched_len = 0;
         for &(j, g) in self.hot.iter().take(self.hot_len) {
-            for &(i, k) in self.gates.column(j as usize) {
+            let (rows, lengths) = self.gates.column(j as usize);
+            for (&i, &l) in rows.iter().zip(lengths) {
                 let i = i as usize;
-                let (Some(&m), Some(&s), Some(&disp)) =
-                    (self.anchor.get(i), self.since.get(i), self.disp.get(i))
-                else {
-                    continue;
-                };
-                if m == 0.0 {
+                // A dead anchor first: most are, and it needs no more reads.
+                if !self.anchor.get(i).is_some_and(|&m| m != 0.0) {
                     continue;
                 }
-                let gate = self.gates.gate(&self.cfg, i, s, disp);
-                let r = match &gate {
+                let (Some(&s), Some(&disp)) = (self.since.get(i), self.disp.get(i)) else {
+                    continue;
+                };
+                let r = match self.gates.gate(&self.cfg, i, s, disp) {
                     // Column `j` holds the pairs whose target is `j`: the pair need not be read.
                     Gate::Displacement(moved, shape) => {
-                        self.gates.displacement_reach(moved, j, shape)
+                        self.gates.displacement_reach(&moved, j, &shape)
                     }
-                    Gate::Path(_) => self.gates.reach(&gate, k as usize),
+                    Gate::Path(s) => path_reach(self.gates.shape, s, l),
                 };
                 let term = r.min(g);
                 let Some(r) = self.raised.get_mut(i) else {
@@ -1353,7 +1403,16 @@ impl Tracker {
                     }
                 }
                 None if self.disp_known => {
-                    self.disp.fill(None);
+                    if self.set_all {
+                        self.disp.fill(None);
+                    } else {
+                        for &j in self.set.iter().take(self.set_len) {
+                            if let Some(d) = self.disp.get_mut(j as usize) {
+                                *d = None;
+                            }
+                        }
+                    }
+                    (self.set_len, self.set_all) = (0, false);
                     self.disp_known = false;
                 }
                 None => {}

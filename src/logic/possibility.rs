@@ -248,7 +248,7 @@ impl PlaceDistribution {
     }
 
     /// `N` from the extremes of `π'`: `1 − max π'` everywhere but at the most possible place.
-    fn fill_necessity(&mut self, pos: Top2) {
+    pub(crate) fn fill_necessity(&mut self, pos: Top2) {
         // An empty max is 0: a lone place is certain.
         let (all, but_best) = pos.complements();
         self.necessity.fill(all);
