@@ -102,7 +102,10 @@ pub fn check(outputs: &[Output<'_>], inputs: &[(&str, &Path)]) -> Result<(), Cli
 
 /// Writes a file atomically: `fill` writes into a temporary file in the same folder, which then
 /// replaces `path` by a rename. On any error the temporary file is removed and `path` is left
-/// as it was.
+/// as it was. A link is followed: the file it names is replaced and the link kept. A path that
+/// names no regular file but a device or a pipe (`-o /dev/null`, `-o /dev/stdout`) is written
+/// in place: a rename would put a regular file where the device was (run as root, `/dev/null`
+/// itself).
 pub fn write_atomic(
     path: &Path,
     fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
@@ -111,7 +114,12 @@ pub fn write_atomic(
         path: path.display().to_string(),
         source,
     };
-    let tmp = temp_name(path);
+    let special = std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir());
+    if special {
+        return write_in_place(path, fill).map_err(fail);
+    }
+    let target = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+    let tmp = temp_name(&target);
     let result = (|| {
         let file = std::fs::OpenOptions::new()
             .write(true)
@@ -121,13 +129,24 @@ pub fn write_atomic(
         fill(&mut w)?;
         let file = w.into_inner().map_err(|e| e.into_error())?;
         file.sync_all()?;
-        std::fs::rename(&tmp, path)
+        std::fs::rename(&tmp, &target)
     })();
     result.map_err(|e| {
         // The temporary file may not exist (creation failed); nothing else to undo.
         let _ = std::fs::remove_file(&tmp);
         fail(e)
     })
+}
+
+/// Writes straight into an existing device or pipe.
+fn write_in_place(
+    path: &Path,
+    fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    let file = std::fs::OpenOptions::new().write(true).open(path)?;
+    let mut w = std::io::BufWriter::new(file);
+    fill(&mut w)?;
+    w.flush()
 }
 
 /// Creates an output folder (and its parents), naming it on failure.
@@ -165,6 +184,36 @@ fn same_file(a: &Path, b: &Path) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[cfg(unix)]
+    #[test]
+    fn a_device_is_written_in_place_and_stays_a_device() {
+        use std::os::unix::fs::FileTypeExt;
+        let null = Path::new("/dev/null");
+        if !std::fs::metadata(null).is_ok_and(|m| m.file_type().is_char_device()) {
+            eprintln!("SKIP: /dev/null is not a character device here");
+            return;
+        }
+        write_atomic(null, |w| w.write_all(b"discarded")).unwrap();
+        let m = std::fs::metadata(null).unwrap();
+        assert!(m.file_type().is_char_device(), "{m:?}");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_link_is_followed_and_kept() {
+        let d = scratch("link");
+        let (file, link) = (d.join("real.svg"), d.join("link.svg"));
+        std::fs::write(&file, "old").unwrap();
+        std::os::unix::fs::symlink(&file, &link).unwrap();
+        write_atomic(&link, |w| w.write_all(b"new")).unwrap();
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "new");
+        let _ = std::fs::remove_dir_all(d);
+    }
 
     fn scratch(name: &str) -> PathBuf {
         let d = std::env::temp_dir().join(format!("lplace-output-{}-{name}", std::process::id()));
