@@ -123,6 +123,17 @@ impl HeadScratch {
             negated: Vec::with_capacity(heads),
         }
     }
+
+    /// The cap of place `k`, a member of the lowest plain head: the lowest cap among the other
+    /// plain heads that leave it out (1 when none does).
+    pub(super) fn cap_outside(&self, heads: &[SetHead], k: usize) -> f64 {
+        let outside = self
+            .plain
+            .iter()
+            .skip(1)
+            .find(|&&(_, h)| heads.get(h).is_some_and(|x| !x.members.contains(k)));
+        outside.map_or(1.0, |&(c, _)| c)
+    }
 }
 
 fn read(regs: &[f64], r: u32) -> f64 {
@@ -165,12 +176,7 @@ pub(super) fn fill(
     // `c0`, so `t_max` only rises).
     for &k in inp.members.of(h0) {
         let k = k as usize;
-        let outside = scratch
-            .plain
-            .iter()
-            .skip(1)
-            .find(|&&(_, h)| inp.heads.get(h).is_some_and(|x| !x.members.contains(k)));
-        let cap = outside.map_or(1.0, |&(c, _)| c);
+        let cap = scratch.cap_outside(inp.heads, k);
         if let (Some(t), Some(&e)) = (dist.possibility_raw.get_mut(k), dist.exclusion.get(k)) {
             *t = lower(1.0 - e, cap);
             t_max = higher(t_max, *t);

@@ -178,12 +178,7 @@ fn own_bounds(ex: &mut Exclusions, inp: &Inputs<'_>, scratch: &HeadScratch, h0: 
     let bound = |k: usize| ex.bound.get(class(k)).copied().unwrap_or(1.0);
     for &k in inp.members.of(h0) {
         let k = k as usize;
-        let outside = scratch
-            .plain
-            .iter()
-            .skip(1)
-            .find(|&&(_, h)| inp.heads.get(h).is_some_and(|x| !x.members.contains(k)));
-        let cap = outside.map_or(1.0, |&(c, _)| c);
+        let cap = scratch.cap_outside(inp.heads, k);
         let e = ex.degree.get(class(k)).copied().unwrap_or(0.0);
         cl.set_own(k, lower(1.0 - e, cap));
     }
