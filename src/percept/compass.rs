@@ -95,7 +95,7 @@ use serde::{Deserialize, Serialize};
 
 use super::config::{finite, non_negative, positive, ConfigError};
 use super::scan::ScanView;
-use super::scan_match::{MatchParams, ScanMatcher};
+use super::scan_match::{Match, MatchParams, ScanMatcher};
 use super::scan_rotation::{
     line_histogram, rotation_between, rotation_candidates, BINS as LINE_BINS,
 };
@@ -233,6 +233,15 @@ pub struct CompassConfig {
     /// How much that gate widens per metre travelled on matched motion without a correction,
     /// degrees. Default 1.
     pub scan_match_gate_growth_deg_per_m: f64,
+    /// Most that matched motion may widen the gate, degrees. Default 10 (a heading the scans
+    /// hold does not drift by more over any distance, while walls 20–30° off the axes, a
+    /// wing of the building, would capture a gate widened without bound).
+    pub scan_match_max_gate_growth_deg: f64,
+    /// A match refused only because the walls leave a direction of its motion free (it
+    /// converged, its residual and overlap pass) still gives the step its turn, with the
+    /// odometry's translation, when that turn agrees with the odometry's within this many
+    /// degrees: two independent measurements of the turn agree. 0 turns it off. Default 3.
+    pub scan_match_agreement_deg: f64,
 }
 
 impl Default for CompassConfig {
@@ -280,6 +289,8 @@ impl Default for CompassConfig {
             scan_match_translation: true,
             scan_match_max_correction_deg: 3.0,
             scan_match_gate_growth_deg_per_m: 1.0,
+            scan_match_max_gate_growth_deg: 10.0,
+            scan_match_agreement_deg: 3.0,
         }
     }
 }
@@ -412,10 +423,22 @@ impl CompassConfig {
             "compass.scan_match_max_correction_deg",
             self.scan_match_max_correction_deg,
         )?;
-        non_negative(
-            "compass.scan_match_gate_growth_deg_per_m",
-            self.scan_match_gate_growth_deg_per_m,
-        )?;
+        for (field, v) in [
+            (
+                "compass.scan_match_gate_growth_deg_per_m",
+                self.scan_match_gate_growth_deg_per_m,
+            ),
+            (
+                "compass.scan_match_max_gate_growth_deg",
+                self.scan_match_max_gate_growth_deg,
+            ),
+            (
+                "compass.scan_match_agreement_deg",
+                self.scan_match_agreement_deg,
+            ),
+        ] {
+            non_negative(field, v)?;
+        }
         positive("compass.scan_match_max_rms_m", self.scan_match_max_rms_m)
     }
 
@@ -760,14 +783,23 @@ impl CompassTracker {
                 self.matcher
                     .step(&self.local, keep, stride, odometry, &starts[..n], &params);
             if let (Some(d), true) = (odometry, self.pose.is_some()) {
+                let turn_of = |m: Match| Pose2 {
+                    theta: m.motion.theta,
+                    ..*d
+                };
                 let m = found.filter(|m| m.accepted(&params, !c.scan_match_translation));
                 measured = m.map(|m| match c.scan_match_translation {
                     true => m.motion,
-                    false => Pose2 {
-                        theta: m.motion.theta,
-                        ..*d
-                    },
+                    false => turn_of(m),
                 });
+                if measured.is_none() {
+                    let agreed = found.filter(|m| {
+                        m.fits(&params)
+                            && wrap_pi(m.motion.theta - d.theta).abs()
+                                <= c.scan_match_agreement_deg.to_radians()
+                    });
+                    measured = agreed.map(turn_of);
+                }
                 self.matched_step = measured.is_some();
                 self.matches.0 += u64::from(measured.is_some());
                 self.matches.1 += 1;
@@ -866,8 +898,9 @@ impl CompassTracker {
         let gate = (base
             + c.gate_growth_deg_per_m * self.travelled
             + c.gate_growth_per_deg * self.turned
-            + c.scan_match_gate_growth_deg_per_m * self.matched_travel)
-            .min(40.0);
+            + (c.scan_match_gate_growth_deg_per_m * self.matched_travel)
+                .min(c.scan_match_max_gate_growth_deg))
+        .min(40.0);
         self.correction = None;
         let Some((alpha, share)) = orientation_of(&self.local, &self.cfg, stride) else {
             return 0.0;
@@ -1522,6 +1555,116 @@ mod tests {
         let (on, matches) = turn_in_a_box_with_straight_odometry(true);
         assert!(on.iter().all(|e| e.abs() < 1.0), "{on:?}");
         assert_eq!(matches, (7, 7));
+    }
+
+    /// Per step of a robot weaving (±5° a step) down a 2 m corridor whose ends are out of
+    /// range, its odometry turning `odometry_error_deg` more than it does: the turn the
+    /// prediction took, the true turn and the odometry's (degrees); and the matches taken.
+    fn weave_down_a_corridor(
+        agreement_deg: f64,
+        odometry_error_deg: f64,
+    ) -> (Vec<[f64; 3]>, (u64, u64)) {
+        let cfg = CompassConfig {
+            enabled: true,
+            initial_heading_deg: Some(0.0),
+            scan_match: true,
+            scan_match_agreement_deg: agreement_deg,
+            ..CompassConfig::default()
+        };
+        let walls = [-100.0, -1.0, 100.0, 1.0];
+        let mut t = CompassTracker::new(cfg).unwrap();
+        let (mut x, mut yaw) = (0.0f64, 0.0f64);
+        let mut turns = Vec::new();
+        for k in 0..10 {
+            let r = box_scan(x, 0.0, yaw.to_radians(), PI, 360, walls);
+            let v = ScanView {
+                bearing_step: PI / 360.0,
+                ..view(&r)
+            };
+            let turn = if k % 2 == 1 { 5.0 } else { -5.0 };
+            let inc = Pose2 {
+                x: 0.5 * (-yaw).to_radians().cos(),
+                y: 0.5 * (-yaw).to_radians().sin(),
+                theta: (turn + odometry_error_deg).to_radians(),
+            };
+            t.step(&v, (k > 0).then_some(&inc), 0.0);
+            if k > 0 {
+                let took = t.last_turn().unwrap().to_degrees();
+                turns.push([took, turn, turn + odometry_error_deg]);
+            }
+            x += 0.5;
+            yaw += if k % 2 == 0 { 5.0 } else { -5.0 };
+        }
+        (turns, t.scan_matches())
+    }
+
+    #[test]
+    fn a_corridor_match_gives_its_turn_when_the_odometry_agrees() {
+        // The corridor's walls leave the motion along it free: every match is refused as a
+        // whole (no step matched without the agreement).
+        let (off, matched) = weave_down_a_corridor(0.0, 2.0);
+        assert_eq!(matched, (0, 9));
+        assert!(
+            off.iter().all(|[took, _, odo]| (took - odo).abs() < 1e-9),
+            "{off:?}"
+        );
+        // Its turn agrees with the odometry's within 3°: the step takes the measured turn.
+        let (on, matched) = weave_down_a_corridor(3.0, 2.0);
+        assert_eq!(matched, (9, 9));
+        assert!(
+            on.iter().all(|[took, truth, _]| (took - truth).abs() < 0.5),
+            "{on:?}"
+        );
+        // Odometry 6° off disagrees: it is kept.
+        let (far, matched) = weave_down_a_corridor(3.0, 6.0);
+        assert_eq!(matched, (0, 9));
+        assert!(
+            far.iter().all(|[took, _, odo]| (took - odo).abs() < 1e-9),
+            "{far:?}"
+        );
+    }
+
+    /// The heading error after a robot facing 20° in the map, in a 12 m × 6 m room whose
+    /// walls run at 20° (a wing off the building's axis, 0°), drove 30 m to and fro along it
+    /// on exact odometry. The first scan is empty, so that the heading starts right.
+    fn error_after_a_wing(max_growth_deg: f64) -> f64 {
+        let cfg = CompassConfig {
+            enabled: true,
+            initial_heading_deg: Some(20.0),
+            scan_match: true,
+            scan_match_max_gate_growth_deg: max_growth_deg,
+            ..CompassConfig::default()
+        };
+        let walls = [-2.0, -3.0, 10.0, 3.0];
+        let mut t = CompassTracker::new(cfg).unwrap();
+        t.step(&view(&[]), None, 0.0);
+        let mut x = 0.0f64;
+        let mut dir = 0.5;
+        for _ in 0..60 {
+            if !(0.0..=7.0).contains(&(x + dir)) {
+                dir = -dir;
+            }
+            x += dir;
+            let r = box_scan(x, 0.0, 0.0, PI, 180, walls);
+            let inc = Pose2 {
+                x: dir,
+                y: 0.0,
+                theta: 0.0,
+            };
+            t.step(&view(&r), Some(&inc), 0.0);
+        }
+        (t.pose().unwrap().theta.to_degrees() - 20.0 + 180.0).rem_euclid(360.0) - 180.0
+    }
+
+    #[test]
+    fn walls_off_the_axis_do_not_capture_a_matched_heading() {
+        // Their direction is 20° from the prediction. Widened by 1°/m of matched travel
+        // without bound, the gate (3° + 0.5 m of unmatched first step at 10°/m) passes 20°
+        // after 12 m: the heading snaps onto the wing's walls. Capped at 10°, it never does.
+        let unbounded = error_after_a_wing(40.0);
+        assert!((unbounded + 20.0).abs() < 1.0, "{unbounded}");
+        let capped = error_after_a_wing(10.0);
+        assert!(capped.abs() < 1.0, "{capped}");
     }
 
     #[test]

@@ -84,10 +84,13 @@ impl Match {
         } else {
             self.constraint
         };
-        self.converged
-            && self.rms <= p.max_rms_m
-            && self.overlap >= p.min_overlap
-            && constraint >= p.min_constraint
+        self.fits(p) && constraint >= p.min_constraint
+    }
+
+    /// Whether the match passes every test but the constraint's: it converged onto the
+    /// reference's lines (its turn is measured, though the walls may leave its motion free).
+    pub fn fits(&self, p: &MatchParams) -> bool {
+        self.converged && self.rms <= p.max_rms_m && self.overlap >= p.min_overlap
     }
 }
 
