@@ -14,9 +14,11 @@ Issue 17, item 7: the peer a user would pick instead of lplace is MRPT's `pf-loc
 3. runs `pf-localization` started at the known first pose, and from no prior (uniform over the
    grid's free cells) with 5,000 and 40,000 particles, and parses the estimates from its log
    (it writes no pose file),
-4. looks every estimate up in the map's place extents (`examples/place_of_pose`, lplace's own
+4. looks every estimate up in the floor-plan map's place extents (`examples/place_of_pose`, lplace's own
    `contains`, as `lplace extract --map` labels the truth) and scores it as lplace is scored,
-5. prints one Markdown row per building and protocol, lplace's own row first.
+5. prints one Markdown row per building and protocol, lplace's own rows first: the defaults
+   (the floor-plan map surveyed on the log with `rules/laser.lpl`, as the README's table) and,
+   where the building has one, its map surveyed with `rules/intel.lpl`.
 
 Scoring (per scan whose corrected pose lies in some extent, "at a place"):
   decided           the filter has converged, spread <= --decided-spread (default 1.0), and its
@@ -28,7 +30,8 @@ particles' covariance over (x, y, heading), in m and rad. lplace's row uses its 
 decided = a place asserted, confidently wrong = wrong with necessity >= 0.9. Time per scan:
 pf-localization's own `Done in` time of each filter step (no log parsing, no map building);
 lplace's is the wall time of `lplace extract` plus `lplace eval` over the whole log, process
-start and JSON included, divided by the scans.
+start and JSON included, divided by the scans (the survey, like the filter's map building, is
+not timed).
 
 Needs (installs nothing): MRPT's applications, on Debian 12 `apt-get install mrpt-apps`
 (MRPT 2.5.8: carmen2simplemap, carmen2rawlog, pf-localization); cargo (builds `lplace` and
@@ -57,12 +60,15 @@ REPO = Path(__file__).resolve().parent.parent
 TOOLS = ("carmen2simplemap", "carmen2rawlog", "pf-localization")
 
 # The buildings of the README's table: the log (plain or gzipped; `lplace extract` reads
-# either, and the copies rewritten for MRPT are plain), lplace's surveyed map (its extents are
-# the truth and the places looked up), the extractor config and the laser's angle between beams (only Freiburg 101's log states it).
+# either, and the copies rewritten for MRPT are plain), the floor-plan map (its extents are the
+# truth and the places looked up; lplace's default row surveys it on the log), the map surveyed
+# with `rules/intel.lpl` and the extractor config it was surveyed with (`None` for a building
+# that has no such map), and the laser's angle between beams (only Freiburg 101's log states it).
 BUILDINGS = {
     "intel": {
         "name": "Intel Research Lab",
         "log": "carmen-corrected-logs/intel-corrected.log",
+        "plan": "maps/intel-plan.map",
         "map": "maps/intel.map",
         "config": "config/intel.ron",
         "resolution_deg": 1.0,
@@ -70,6 +76,7 @@ BUILDINGS = {
     "freiburg-101": {
         "name": "Freiburg 101",
         "log": "carmen-corrected-logs/freiburg-101-corrected.log",
+        "plan": "maps/freiburg-101-plan.map",
         "map": "maps/freiburg-101.map",
         "config": "config/freiburg-101.ron",
         "resolution_deg": 0.5,
@@ -77,14 +84,26 @@ BUILDINGS = {
     "seattle": {
         "name": "Seattle",
         "log": "carmen-corrected-logs/seattle-corrected.log.gz",
+        "plan": "maps/seattle-plan.map",
         "map": "maps/seattle.map",
         "config": "config/seattle.ron",
         "resolution_deg": 0.5,
     },
+    "csail": {
+        "name": "CSAIL",
+        "log": "carmen-corrected-logs/csail-corrected.log",
+        "plan": "maps/csail-plan.map",
+        "map": None,
+        "config": None,
+        "resolution_deg": 0.5,
+    },
 }
 
-# lplace's row is the README's "surveyed on the same log" row: the same rules and tracker on
-# every building, only the map and the extractor config differ.
+# lplace's first row is the README's table's "survey on the log, score the same log" row: the
+# defaults (extract without a config, `rules/laser.lpl` and its tracker block), the floor-plan
+# map surveyed on the log. The second, where the building has one, is the map surveyed with
+# `rules/intel.lpl`, scored with that rule file and tracker.
+DEFAULT_RULES = "rules/laser.lpl"
 RULES = "rules/intel.lpl"
 TRACKER = "config/intel-tracker.ron"
 
@@ -350,21 +369,44 @@ def score(truth, estimate, spread, args):
     return at, dec, right, cw
 
 
-def lplace_row(b, lplace, log):
-    """lplace's surveyed-map row: extract and evaluate as the README's buildings table does
-    (the "surveyed on the same log" row: RULES and TRACKER, the building's map)."""
+def summary_row(p, elapsed):
+    """(at a place, decided, right, confidently wrong, ms per scan) from `eval`'s JSON summary."""
+    s = json.loads(p.stdout)
+    truth = s["truth"]
+    dec = truth["correct"] + truth["wrong"]
+    return (truth["at_place"], dec, truth["correct"], truth["confidently_wrong"],
+            1e3 * elapsed / s["frames"])
+
+
+def lplace_default_row(b, lplace, log, wdir):
+    """lplace with the defaults, as the README's buildings table: the log extracted without a
+    config, the floor-plan map surveyed on it with DEFAULT_RULES (`lplace survey`, a one-off
+    like the filter's map building, so not timed), the log evaluated with the surveyed map."""
+    plan = REPO / b["plan"]
+    t0 = time.perf_counter()
+    frames = run([lplace, "extract", "--from", "carmen", log, "--map", plan], cwd=REPO).stdout
+    extract_s = time.perf_counter() - t0
+    stream = wdir / "lplace.jsonl"
+    stream.write_text(frames)
+    surveyed = wdir / "surveyed.map"
+    run([lplace, "survey", "--map", plan, "--rules", REPO / DEFAULT_RULES, stream,
+         "-o", surveyed], cwd=REPO)
+    t0 = time.perf_counter()
+    p = run([lplace, "eval", stream, "--map", surveyed, "--rules", REPO / DEFAULT_RULES,
+             "--only-summary", "--summary", "json"], cwd=REPO)
+    return summary_row(p, extract_s + time.perf_counter() - t0)
+
+
+def lplace_intel_row(b, lplace, log):
+    """lplace's `rules/intel.lpl` row: the building's map surveyed with RULES, extracted with
+    the config it was surveyed with, evaluated with RULES and TRACKER."""
     t0 = time.perf_counter()
     frames = run([lplace, "extract", "--from", "carmen", log, "--map", REPO / b["map"],
                   "--config", REPO / b["config"]], cwd=REPO).stdout
     p = run([lplace, "eval", "-", "--map", REPO / b["map"], "--rules", REPO / RULES,
              "--tracker", REPO / TRACKER, "--only-summary",
              "--summary", "json"], input=frames, cwd=REPO)
-    elapsed = time.perf_counter() - t0
-    s = json.loads(p.stdout)
-    truth = s["truth"]
-    dec = truth["correct"] + truth["wrong"]
-    return (truth["at_place"], dec, truth["correct"], truth["confidently_wrong"],
-            1e3 * elapsed / s["frames"])
+    return summary_row(p, time.perf_counter() - t0)
 
 
 def pct(a, b):
@@ -408,14 +450,18 @@ def building(key, args, lplace, lookup, work):
     wdir.mkdir(parents=True, exist_ok=True)
     scans = read_log(log)
     simplemap, rawlog = write_logs(b, scans, wdir)
-    truth = places_of(lookup, b["map"], [(p[0], p[1]) for _, p, _, _ in scans])
-    own = lplace_row(b, lplace, log)
-    # Both scored on the same scans: the extents looked up here must hold what extract labelled.
+    truth = places_of(lookup, b["plan"], [(p[0], p[1]) for _, p, _, _ in scans])
+    own = [(f"floor plan surveyed on the log, {DEFAULT_RULES}, the defaults",
+            lplace_default_row(b, lplace, log, wdir))]
+    if b["map"]:
+        own.append((f"surveyed map, {RULES}, grid tracker", lplace_intel_row(b, lplace, log)))
+    # All scored on the same scans: the extents looked up here must hold what extract labelled.
     at_place = sum(t is not None for t in truth)
-    if own[0] != at_place:
-        raise ScriptError(f"{b['name']}: lplace scores {own[0]} scans at a place, the "
-                          f"lookup finds {at_place}")
-    rows = [row(b["name"], "lplace", f"surveyed map, {RULES}, grid tracker", [own])]
+    for protocol, figures in own:
+        if figures[0] != at_place:
+            raise ScriptError(f"{b['name']}: lplace ({protocol}) scores {figures[0]} scans at "
+                              f"a place, the lookup finds {at_place}")
+    rows = [row(b["name"], "lplace", protocol, [figures]) for protocol, figures in own]
     protocols = [("known first pose", args.known_particles, init_known(scans[0][1]))]
     protocols += [("no prior", n, init_uniform(scans)) for n in args.particles]
     for label, n, init in protocols:
@@ -426,7 +472,7 @@ def building(key, args, lplace, lookup, work):
             if len(est) != len(scans):
                 raise ScriptError(f"{b['name']} {tag}: {len(est)} estimates for "
                                   f"{len(scans)} scans (see {wdir / tag}.txt)")
-            where = places_of(lookup, b["map"], [(x, y) for x, y, _ in est])
+            where = places_of(lookup, b["plan"], [(x, y) for x, y, _ in est])
             at, dec, right, cw = score(truth, where, [s for _, _, s in est], args)
             ms = statistics.mean(times) if times else float("nan")
             results.append((at, dec, right, cw, ms))
