@@ -212,7 +212,8 @@ pub struct CompassConfig {
     /// sought, degrees, below 90. Default 25 (the CSAIL log's odometry
     /// turns more than 25° wrong on 2 of its 405 steps, 20° on 6).
     pub scan_match_window_deg: f64,
-    /// Pairing gate of the match's first iteration, metres. Default 1.
+    /// Pairing gate of the match's first iteration, metres, at most 8 × `scan_match_min_pair_m`.
+    /// Default 1.
     pub scan_match_max_pair_m: f64,
     /// Pairing gate of its last iterations (and of the overlap), metres. Default 0.2.
     pub scan_match_min_pair_m: f64,
@@ -421,6 +422,15 @@ impl CompassConfig {
                 "compass.scan_match_min_pair_m",
                 self.scan_match_min_pair_m,
                 "must be at most scan_match_max_pair_m",
+            ));
+        }
+        // The pairing grid's cells are `min_pair_m` wide and a query looks at most 8 cells
+        // away: a wider first gate would silently miss pairs.
+        if self.scan_match_max_pair_m > 8.0 * self.scan_match_min_pair_m {
+            return Err(ConfigError::invalid(
+                "compass.scan_match_max_pair_m",
+                self.scan_match_max_pair_m,
+                "must be at most 8 × scan_match_min_pair_m",
             ));
         }
         positive(
@@ -1683,5 +1693,11 @@ mod tests {
         }
         .validate()
         .is_err());
+        let wide = |max: f64| CompassConfig {
+            scan_match_max_pair_m: max,
+            ..CompassConfig::default()
+        };
+        assert!(wide(1.6).validate().is_ok());
+        assert!(wide(1.7).validate().is_err());
     }
 }
