@@ -101,9 +101,8 @@ pub enum RaisedHeadings {
 pub enum HeadingSets {
     /// Each cell keeps its own set, narrowed by every bearing reading there and moved with the
     /// cell (paper 000's 2½-D grid). The plane is shifted along the *estimate's* heading, not
-    /// along each cell's, so a cell whose set is wrong is moved as if it were right and never
-    /// pays for it; its set, consistent with where the cell is, then makes the next bearing
-    /// reading favour it.
+    /// along each cell's, so a cell whose set is wrong is moved as if it were right, and a
+    /// bearing read through a wrong narrow set cuts the cell down whoever is right.
     #[default]
     PerCell,
     /// Whenever the prediction shifts the plane along the estimate's heading (its weight is 1,
