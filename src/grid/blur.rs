@@ -80,12 +80,8 @@ impl FuzzyGrid {
     /// 2π) takes the belief's centre, its core and bias still near the full circle for a small
     /// λ. The floor's bias (`floor / h′`) is kept.
     pub(crate) fn inherit_headings(&mut self, est: &Estimate, turn: f32, widen: f32) {
-        let theta = wrap_pi_f32(est.theta + turn);
-        let (d_in, a_in) = (
-            self.cfg.bearing.core_abs + widen,
-            self.cfg.bearing.slope_abs,
-        );
-        let b_in = (1.0 - est.heading_reliability).clamp(0.0, 1.0);
+        let set = self.belief_set(est, turn, widen);
+        let (theta, d_in, a_in, b_in) = (set.theta, set.delta, set.alpha, set.bias);
         let floor = self.cfg.floor;
         for i in 0..self.h.len() {
             let (was, now) = (self.work.before[i], self.h[i]);

@@ -95,6 +95,27 @@ pub enum RaisedHeadings {
     Inherit,
 }
 
+/// Where a cell's heading set comes from once the belief's heading is known
+/// ([`crate::grid::headings`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum HeadingSets {
+    /// Each cell keeps its own set, narrowed by every bearing reading there and moved with the
+    /// cell (paper 000's 2½-D grid). The plane is shifted along the *estimate's* heading, not
+    /// along each cell's, so a cell whose set is wrong is moved as if it were right, and a
+    /// bearing read through a wrong narrow set cuts the cell down whoever is right.
+    #[default]
+    PerCell,
+    /// Whenever the prediction shifts the plane along the estimate's heading (its weight is 1,
+    /// see [`FuzzyGrid::directed_weight`](crate::grid::FuzzyGrid::directed_weight)), every
+    /// cell's set becomes the belief's (the heading the shift used, turned by the odometry,
+    /// core `bearing.core_abs` plus the prediction's widening, flank `bearing.slope_abs`, bias
+    /// `1 − R̄`): a bearing reading is then read with the heading the motion assumed, and only
+    /// its position information is new. Before the heading is known the sets stay per cell.
+    /// The heading is then one hypothesis: one that is wrong when it first passes the gate is
+    /// every cell's, and the bearings pull the position sideways to agree with it.
+    Shared,
+}
+
 /// A sensor model: the trapezoid `⟨r, Δ, α, 1, b⟩` put around a reading `r`.
 ///
 /// Widths grow with the reading (`core = core_abs + core_rel · |r|`, same for
@@ -182,6 +203,9 @@ pub struct GridConfig {
     pub shift: Shift,
     /// The heading sets of cells the blur raises ([`RaisedHeadings`]). Default `Keep`.
     pub raised_headings: RaisedHeadings,
+    /// Where the cells' heading sets come from once the heading is known ([`HeadingSets`]).
+    /// Default `PerCell`.
+    pub heading_sets: HeadingSets,
     /// Factor on the odometry's translation (forward and left) before the grid uses it: a
     /// calibration of the odometry against ground truth. Default 1. (MRCLAM's velocity
     /// commands over-read the distance travelled by 9–13 % on every robot.)
@@ -290,6 +314,7 @@ impl Default for GridConfig {
             blur: Blur::Drop,
             shift: Shift::Cells,
             raised_headings: RaisedHeadings::Keep,
+            heading_sets: HeadingSets::PerCell,
             forward_scale: 1.0,
             turn_scale: 1.0,
             core_per_metre: 0.1,

@@ -18,6 +18,7 @@ pub mod cells;
 pub mod config;
 pub mod dilate;
 pub mod estimate;
+pub mod headings;
 pub mod observe;
 pub mod place;
 pub mod predict;
@@ -29,8 +30,8 @@ pub use blur::Blur;
 pub use cap::Region;
 pub use cells::FuzzyGrid;
 pub use config::{
-    Combine, Cuts, Dilation, ElementShape, GridConfig, RaisedHeadings, SensorModel, Shift,
-    MAX_LATTICES,
+    Combine, Cuts, Dilation, ElementShape, GridConfig, HeadingSets, RaisedHeadings, SensorModel,
+    Shift, MAX_LATTICES,
 };
 pub use estimate::Estimate;
 pub use observe::{Landmark, LandmarkTable, Observation};

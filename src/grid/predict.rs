@@ -70,7 +70,7 @@
 //! assert!(g.possibility(26, 20) > 0.0 && g.possibility(20, 14) > 0.0);
 //! ```
 
-use super::{Estimate, FuzzyGrid, GridError, RaisedHeadings, Shift};
+use super::{Estimate, FuzzyGrid, GridError, HeadingSets, RaisedHeadings, Shift};
 use crate::core::Odometry;
 use std::f32::consts::PI;
 
@@ -260,6 +260,9 @@ impl FuzzyGrid {
             }
             core = [0.0; 2];
             flank = [0.0; 2];
+        }
+        if w >= 1.0 && self.cfg.heading_sets == HeadingSets::Shared {
+            self.share_headings(&est, p.turn, widen);
         }
         self.pending = Pending {
             rx,

@@ -10,22 +10,25 @@ use lplace::localize::grid::run;
 use lplace::localize::robust::{jitter_landmarks, nudged_configs};
 use lplace::localize::{MetricFrame, RunOptions};
 
+/// The default MRCLAM configuration.
+const FILE: &str = include_str!("../../config/grid-mrclam.ron");
+
 fn ate(table: &LandmarkTable, cfg: &GridConfig, frames: &[MetricFrame]) -> f64 {
     let rep = run(table, cfg, frames.iter().cloned(), &RunOptions::default()).unwrap();
     rep.ate.expect("a fix and truth").rmse
 }
 
 /// Robot 1's largest relative ATE change over the ten landmark draws and over the ±1 %
-/// configuration changes (with the value that caused it), config/grid-mrclam.ron on `lattices`
+/// configuration changes (with the value that caused it), the configuration `ron` on `lattices`
 /// lattices, or `None` without the data.
-fn robot1_spreads(lattices: u32) -> Option<(f64, f64, String)> {
+fn robot1_spreads(ron: &str, lattices: u32) -> Option<(f64, f64, String)> {
     let dir = mrclam_dir()?;
     let data = lplace::io::mrclam_dir::load(&dir, &[1]).unwrap();
     let table = survey_landmarks(data.survey().unwrap()).unwrap();
     let frames = data.robots.into_iter().next().unwrap().frames;
     let cfg = GridConfig {
         lattices,
-        ..GridConfig::from_ron(include_str!("../../config/grid-mrclam.ron")).unwrap()
+        ..GridConfig::from_ron(ron).unwrap()
     };
     let base = ate(&table, &cfg, &frames);
     let change = |a: f64| (a - base).abs() / base;
@@ -66,7 +69,7 @@ fn robot1_spreads(lattices: u32) -> Option<(f64, f64, String)> {
 /// towards that fragility.
 #[test]
 fn mrclam_robot1_ate_is_no_more_fragile_than_measured() {
-    let Some((landmarks, config, worst)) = robot1_spreads(1) else {
+    let Some((landmarks, config, worst)) = robot1_spreads(FILE, 1) else {
         return;
     };
     assert!(landmarks <= 0.025, "{landmarks}");
@@ -79,7 +82,7 @@ fn mrclam_robot1_ate_is_no_more_fragile_than_measured() {
 #[test]
 #[ignore = "issue 20's 3 % goal for the configuration is not met yet (robot 1: 6.0 %)"]
 fn mrclam_robot1_ate_moves_at_most_3_percent() {
-    let Some((landmarks, config, worst)) = robot1_spreads(1) else {
+    let Some((landmarks, config, worst)) = robot1_spreads(FILE, 1) else {
         return;
     };
     assert!(landmarks <= 0.03, "{landmarks}");
@@ -91,9 +94,23 @@ fn mrclam_robot1_ate_moves_at_most_3_percent() {
 /// eight times one (docs/compare.md, "Averaged shifted lattices").
 #[test]
 fn mrclam_robot1_ate_on_eight_lattices_moves_at_most_3_percent() {
-    let Some((landmarks, config, worst)) = robot1_spreads(8) else {
+    let Some((landmarks, config, worst)) = robot1_spreads(FILE, 8) else {
         return;
     };
     assert!(landmarks <= 0.03, "{landmarks}");
     assert!(config <= 0.03, "{config} ({worst})");
+}
+
+/// config/grid-mrclam-shared.ron (`heading_sets: Shared`): measured 2.6 % (landmarks) and 4.5 %
+/// (configuration, `delta_per_second` ×1.01) on robot 1, against 13.0 % and 11.1 % for
+/// config/grid-mrclam-accurate.ron, which it differs from by that option only. Locked with
+/// issue 20's 3 % for the landmarks and half a point of margin, 5 %, for the configuration.
+#[test]
+fn mrclam_robot1_ate_with_shared_heading_sets_is_no_more_fragile_than_measured() {
+    let shared = include_str!("../../config/grid-mrclam-shared.ron");
+    let Some((landmarks, config, worst)) = robot1_spreads(shared, 1) else {
+        return;
+    };
+    assert!(landmarks <= 0.03, "{landmarks}");
+    assert!(config <= 0.05, "{config} ({worst})");
 }
