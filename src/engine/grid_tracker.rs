@@ -309,6 +309,11 @@ fn cell_size(grid: &GridTrackConfig, w: f64, h: f64) -> f64 {
 }
 
 /// The place of each cell's centre, row-major (the first place containing it), or [`NONE`].
+///
+/// # Complexity
+/// Each place tests only the cells of its own box (its outline's, else its extent's), widened
+/// by a cell: O(cells + Σ box cells) `contains` calls, not O(cells · places). A place whose box
+/// is not finite tests every cell.
 fn label_cells(
     places: &[Place],
     (nx, ny): (usize, usize),
@@ -316,16 +321,49 @@ fn label_cells(
     cell: f64,
 ) -> Vec<u32> {
     let mut label = vec![NONE; nx * ny];
-    for (r, row) in label.chunks_exact_mut(nx).enumerate() {
-        let y = origin.1 + (r as f64 + 0.5) * cell;
-        for (c, l) in row.iter_mut().enumerate() {
-            let x = origin.0 + (c as f64 + 0.5) * cell;
-            if let Some(k) = places.iter().position(|p| p.contains(x, y)) {
-                *l = k as u32;
+    // The last place first, so that the first place containing a centre is the one kept.
+    for (k, p) in places.iter().enumerate().rev() {
+        let ((c0, c1), (r0, r1)) = cell_span(p, (nx, ny), origin, cell);
+        for r in r0..r1 {
+            let y = origin.1 + (r as f64 + 0.5) * cell;
+            for c in c0..c1 {
+                let x = origin.0 + (c as f64 + 0.5) * cell;
+                if p.contains(x, y) {
+                    label[r * nx + c] = k as u32;
+                }
             }
         }
     }
     label
+}
+
+/// The columns and rows `[start, end)` of the cells whose centres may lie in `p`: those within
+/// a cell of its box; every cell when the box is not finite.
+fn cell_span(
+    p: &Place,
+    (nx, ny): (usize, usize),
+    origin: (f64, f64),
+    cell: f64,
+) -> ((usize, usize), (usize, usize)) {
+    let b = match &p.outline {
+        Some(o) => {
+            let (x0, y0, x1, y1) = o.bounds();
+            [x0, y0, x1, y1]
+        }
+        None => extent_box((p.pose.0, p.pose.1), p.extent),
+    };
+    if !(b.iter().all(|v| v.is_finite()) && cell > 0.0) {
+        return ((0, nx), (0, ny));
+    }
+    let span = |lo: f64, hi: f64, o: f64, n: usize| {
+        let first = ((lo - o) / cell - 1.5).floor().max(0.0);
+        let last = ((hi - o) / cell + 1.5).ceil().max(0.0);
+        ((first as usize).min(n), (last as usize).min(n))
+    };
+    (
+        span(b[0], b[2], origin.0, nx),
+        span(b[1], b[3], origin.1, ny),
+    )
 }
 
 /// The maximal runs `(start, end, place)` of equal labels, `place` = `n` between places.

@@ -448,3 +448,43 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    /// Every cell is labelled with the first place whose extent holds its centre, as a plain
+    /// test of every place at every cell finds it: overlapping boxes, rotated boxes, polygons
+    /// and discs, cells of 0.1–1 m.
+    #[test]
+    fn each_cell_is_labelled_with_the_first_place_holding_its_centre(
+        shapes in proptest::collection::vec(
+            (0u8..4, -5.0f64..5.0, -5.0f64..5.0, 0.05f64..4.0, 0.05f64..4.0, -90.0f64..90.0),
+            1..7,
+        ),
+        cell in 0.1f64..1.0,
+    ) {
+        let mut text = String::new();
+        for (k, &(kind, x, y, w, h, turn)) in shapes.iter().enumerate() {
+            let extent = match kind {
+                0 => format!("box ({}, {}, {}, {})", x, y, x + w, y + h),
+                1 => format!("box ({}, {}, {}, {}) rotated {turn}", x, y, x + w, y + h),
+                2 => format!("polygon (({x}, {y}), ({}, {y}), ({}, {}), ({x}, {y}))", x + w, x, y + h),
+                _ => format!("radius {w}"),
+            };
+            text += &format!("place P{k} room at ({x}, {y}) extent {extent};\n");
+        }
+        let m = map(&text);
+        let cfg = TrackerConfig {
+            grid: Some(GridTrackConfig { cell_size: cell, ..GridTrackConfig::default() }),
+            ..TrackerConfig::default()
+        };
+        let t = GridTracker::new(&m, PARAMS, &cfg);
+        let (nx, ny, side, origin) = t.geometry();
+        for r in 0..ny {
+            let cy = origin.1 + (r as f64 + 0.5) * side;
+            for c in 0..nx {
+                let cx = origin.0 + (c as f64 + 0.5) * side;
+                let first = m.places().iter().position(|p| p.contains(cx, cy));
+                prop_assert_eq!(t.cell_place(c, r), first, "cell ({}, {})", c, r);
+            }
+        }
+    }
+}
