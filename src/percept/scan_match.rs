@@ -412,15 +412,18 @@ impl Grid {
         let ring = (gate / self.cell).ceil().clamp(1.0, 8.0) as i64;
         let mut best = (usize::MAX, gate * gate);
         let (w, h) = (self.dims.0 as i64, self.dims.1 as i64);
+        let (x0, x1) = ((cx - ring).max(0), (cx + ring).min(w - 1));
+        if x0 > x1 {
+            return None;
+        }
         for gy in (cy - ring).max(0)..=(cy + ring).min(h - 1) {
-            for gx in (cx - ring).max(0)..=(cx + ring).min(w - 1) {
-                let c = (gy * w + gx) as usize;
-                for &i in &self.order[self.start[c] as usize..self.start[c + 1] as usize] {
-                    let (px, py) = points[i as usize];
-                    let d2 = (px - x).powi(2) + (py - y).powi(2);
-                    if d2 <= best.1 {
-                        best = (i as usize, d2);
-                    }
+            // The points of a row's cells x0..=x1 lie together in `order`, cell after cell.
+            let (a, b) = ((gy * w + x0) as usize, (gy * w + x1) as usize + 1);
+            for &i in &self.order[self.start[a] as usize..self.start[b] as usize] {
+                let (px, py) = points[i as usize];
+                let d2 = (px - x).powi(2) + (py - y).powi(2);
+                if d2 <= best.1 {
+                    best = (i as usize, d2);
                 }
             }
         }
