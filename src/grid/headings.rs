@@ -86,6 +86,11 @@ mod tests {
         g.start_at(2.05, 2.05, 1.0).unwrap();
         g.possibilities_mut()[10 * 40 + 30] = 0.5;
         g.set_heading_set(30, 10, Trapezoid::new(-2.0, 0.1, 0.05, 1.0, 0.2));
+        drive(g)
+    }
+
+    /// 0.3 m forward while turning 0.2 rad in 1 s, applied.
+    fn drive(mut g: FuzzyGrid) -> FuzzyGrid {
         let o = Odometry {
             forward: 0.3,
             left: 0.0,
@@ -146,14 +151,7 @@ mod tests {
             };
             let mut g = FuzzyGrid::new(cfg, [0.0, 0.0, 4.0, 4.0]).unwrap();
             g.set_heading_set(7, 9, Trapezoid::new(0.4, 0.1, 0.05, 1.0, 0.0));
-            let o = Odometry {
-                forward: 0.3,
-                left: 0.0,
-                turn: 0.2,
-            };
-            g.predict(&o, 1.0).unwrap();
-            g.apply_pending();
-            g
+            drive(g)
         };
         let (a, b) = (run(HeadingSets::PerCell), run(HeadingSets::Shared));
         assert!(a.estimate().heading_reliability < 0.8);
