@@ -311,9 +311,9 @@ fn cell_size(grid: &GridTrackConfig, w: f64, h: f64) -> f64 {
 /// The place of each cell's centre, row-major (the first place containing it), or [`NONE`].
 ///
 /// # Complexity
-/// Each place tests only the cells of its own box (its outline's, else its extent's), widened
-/// by a cell: O(cells + Σ box cells) `contains` calls, not O(cells · places). A place whose box
-/// is not finite tests every cell.
+/// Each place tests only the cells of its extent's box, widened by a cell: O(cells + Σ box
+/// cells) `contains` calls, not O(cells · places). A place whose box is not finite tests every
+/// cell.
 fn label_cells(
     places: &[Place],
     (nx, ny): (usize, usize),
@@ -345,13 +345,8 @@ fn cell_span(
     origin: (f64, f64),
     cell: f64,
 ) -> ((usize, usize), (usize, usize)) {
-    let b = match &p.outline {
-        Some(o) => {
-            let (x0, y0, x1, y1) = o.bounds();
-            [x0, y0, x1, y1]
-        }
-        None => extent_box((p.pose.0, p.pose.1), p.extent),
-    };
+    // A rotated box's or a polygon's extent is its outline's bounding box.
+    let b = extent_box((p.pose.0, p.pose.1), p.extent);
     if !(b.iter().all(|v| v.is_finite()) && cell > 0.0) {
         return ((0, nx), (0, ny));
     }
