@@ -89,7 +89,7 @@
 //! assert_eq!(t.step(&ev, east, Some(0.0)).place(), Some(1));
 //! ```
 
-use super::tracker::{carry_heading, undecided, unless_unsupported, TrackerConfig};
+use super::tracker::{carry_heading, held, undecided, unless_unsupported, TrackerConfig};
 use crate::core::Odometry;
 use crate::grid::cells::raw_max;
 use crate::grid::dilate::{dilate_line, Profile};
@@ -200,6 +200,8 @@ pub struct GridTracker {
     cfg: GridTrackConfig,
     bias: f64,
     min_support: f64,
+    /// [`TrackerConfig::hold`].
+    hold: f64,
     params: DecisionParams,
     n: usize,
     nx: usize,
@@ -402,6 +404,7 @@ impl GridTracker {
             cfg: grid,
             bias: clamp_degree(cfg.bias),
             min_support: cfg.min_support,
+            hold: cfg.hold,
             params,
             n,
             nx,
@@ -677,7 +680,8 @@ impl GridTracker {
         let hd = f64::from(h);
         self.dist.height = if hd.is_finite() { hd.min(1.0) } else { 0.0 };
         self.dist.inconsistency = 1.0 - self.dist.height;
-        self.decision = decide(&self.dist, self.params);
+        let now = decide(&self.dist, self.params);
+        self.decision = held(self.decision, now, &self.dist, self.hold);
         self.decision = unless_unsupported(self.decision, max_support, self.min_support, |k| {
             degree_at(&evidence.support, k, 0.0)
         });

@@ -83,7 +83,7 @@ use crate::core::Odometry;
 use crate::logic::decide;
 use crate::logic::{
     clamp_degree, Decision, DecisionParams, Disoriented, Normalisation, PlaceDistribution,
-    Similarity, TNorm,
+    Similarity, TNorm, TIE_TOLERANCE,
 };
 
 mod pass;
@@ -195,6 +195,29 @@ pub(super) fn unless_unsupported(
     }
 }
 
+/// Hysteresis on the decision ([`TrackerConfig::hold`]): the place decided in the previous
+/// frame, `prev`, stays decided while its necessity in `dist` is still at least `hold`, where
+/// `now` would have named no place for another reason than inconsistency. `hold ≥ 1` turns it
+/// off. A place that was chosen because it was necessary is not given up the moment a
+/// neighbour's possibility creeps over `1 − θ`: when the belief straddles the boundary of two
+/// places (it does over the last metre or so before every boundary) the place the robot was
+/// in is still the better answer, and a new place must still meet the threshold to be chosen.
+pub(super) fn held(prev: Decision, now: Decision, dist: &PlaceDistribution, hold: f64) -> Decision {
+    match (prev, now) {
+        (Decision::Place { place, .. }, Decision::Disoriented(why))
+            if hold < 1.0 && !matches!(why, Disoriented::Inconsistent { .. }) =>
+        {
+            let necessity = dist.necessity.get(place).copied().unwrap_or(0.0);
+            if necessity >= hold - TIE_TOLERANCE {
+                Decision::Place { place, necessity }
+            } else {
+                now
+            }
+        }
+        _ => now,
+    }
+}
+
 /// Tracker parameters, loadable from RON (every field optional; defaults below).
 ///
 /// ```ron
@@ -223,6 +246,10 @@ pub struct TrackerConfig {
     pub anchor_support: f64,
     /// Support some place needs in a frame for the tracker to choose any place (default 0.3).
     pub min_support: f64,
+    /// Necessity the place decided in the previous frame needs to stay decided, below the rule
+    /// file's threshold that a newly chosen place must meet: hysteresis ([`held`]). Default 1:
+    /// none, every frame decides afresh.
+    pub hold: f64,
     /// Normalisation of the tracked distribution (default product).
     pub normalisation: Normalisation,
     /// Height of the intersection below which belief and evidence are taken not to overlap,
@@ -271,6 +298,7 @@ impl Default for TrackerConfig {
             slope_rel: 0.1,
             anchor_support: 0.5,
             min_support: 0.3,
+            hold: 1.0,
             normalisation: Normalisation::Product,
             conflict: 0.3,
             use_heading: true,
@@ -320,6 +348,7 @@ impl TrackerConfig {
             ("bias", self.bias),
             ("anchor_support", self.anchor_support),
             ("min_support", self.min_support),
+            ("hold", self.hold),
             ("conflict", self.conflict),
         ];
         for (field, value) in unit {
@@ -996,7 +1025,8 @@ impl Tracker {
         let (changed, top_revised) = self.revise(1.0 - max_support, b);
         self.reanchor(changed, top_revised);
 
-        self.decision = pass::decide(&self.dist, &top, max_support, self.params);
+        let now = pass::decide(&self.dist, &top, max_support, self.params);
+        self.decision = held(self.decision, now, &self.dist, self.cfg.hold);
         self.decision = unless_unsupported(self.decision, max_support, self.cfg.min_support, |k| {
             clamp_degree(evidence.support.get(k).copied().unwrap_or(0.0))
         });
@@ -1681,11 +1711,54 @@ mod tests {
             t.since.fill(0.0);
             t.disp.fill(Some([0.0; 2]));
         }
-        let d = decide(&t.dist, t.params);
+        let d = held(t.decision, decide(&t.dist, t.params), &t.dist, t.cfg.hold);
         let d = unless_unsupported(d, max_support, t.cfg.min_support, |k| {
             get(&ev.support, k, 0.0)
         });
+        t.decision = d;
         (d, pred)
+    }
+
+    /// Hand-worked hysteresis: three places, A decided in the previous frame.
+    #[test]
+    fn a_decided_place_is_held_while_its_necessity_stays_at_hold() {
+        let a = Decision::Place {
+            place: 0,
+            necessity: 0.7,
+        };
+        let mut dist = PlaceDistribution::new(3);
+        dist.necessity = vec![0.45, 0.0, 0.0];
+        let close = Decision::Disoriented(Disoriented::TooClose {
+            best: 0,
+            runner_up: 1,
+            necessity: 0.45,
+        });
+        let held_a = Decision::Place {
+            place: 0,
+            necessity: 0.45,
+        };
+        // N_A = 0.45 ≥ 0.4: A stays, with its necessity of this frame.
+        assert_eq!(held(a, close, &dist, 0.4), held_a);
+        // 0.45 < 0.5, or hysteresis off (1): the frame's own decision.
+        assert_eq!(held(a, close, &dist, 0.5), close);
+        assert_eq!(held(a, close, &dist, 1.0), close);
+        // Nothing was decided before: nothing to hold, however necessary.
+        assert_eq!(held(close, close, &dist, 0.4), close);
+        // Inconsistency is never held over.
+        let inc = Decision::Disoriented(Disoriented::Inconsistent { inconsistency: 0.6 });
+        assert_eq!(held(a, inc, &dist, 0.4), inc);
+        // A new place the frame chooses is taken: hold never keeps one against another.
+        let c = Decision::Place {
+            place: 2,
+            necessity: 0.8,
+        };
+        assert_eq!(held(a, c, &dist, 0.4), c);
+        // The tie tolerance of the decision's own thresholds.
+        dist.necessity[0] = 0.4 - 1e-12;
+        assert!(matches!(
+            held(a, close, &dist, 0.4),
+            Decision::Place { place: 0, .. }
+        ));
     }
 
     /// A random map of `k` places: discs and boxes scattered over 40 m, joined by a random tree
@@ -1756,6 +1829,7 @@ mod tests {
             normalisation,
             anchor_support: [0.0, 0.5, 0.8, 1.0][rng.below(4)],
             min_support: 0.3 * rng.unit(),
+            hold: [1.0, 1.0, 0.3, rng.unit()][rng.below(4)],
             conflict: [0.0, 0.3, 0.6][rng.below(3)],
             use_heading: rng.chance(0.7),
             evidence_length_m: [0.0, 0.0, 0.7][rng.below(3)],

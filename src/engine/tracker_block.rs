@@ -63,6 +63,7 @@ fn number_field<'c>(c: &'c mut TrackerConfig, key: &str) -> Option<&'c mut f64> 
         "slope_rel" => &mut c.slope_rel,
         "anchor_support" => &mut c.anchor_support,
         "min_support" => &mut c.min_support,
+        "hold" => &mut c.hold,
         "conflict" => &mut c.conflict,
         "tolerance_d" => &mut c.tolerance_d,
         "tolerance_d_rel" => &mut c.tolerance_d_rel,

@@ -53,6 +53,7 @@ pub const TRACKER_KEYS: &[&str] = &[
     "slope_rel",
     "anchor_support",
     "min_support",
+    "hold",
     "normalisation",
     "conflict",
     "use_heading",
@@ -78,7 +79,7 @@ pub const GRID_KEYS: &[&str] = &[
 
 fn tracker_kind(key: &str) -> Kind {
     match key {
-        "bias" | "anchor_support" | "min_support" | "conflict" => Kind::Unit,
+        "bias" | "anchor_support" | "min_support" | "hold" | "conflict" => Kind::Unit,
         "tnorm" => Kind::Words(
             &["min", "product", "lukasiewicz"],
             "min, product or lukasiewicz",

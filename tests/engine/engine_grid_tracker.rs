@@ -206,6 +206,49 @@ fn a_belief_between_places_makes_no_place_necessary() {
 }
 
 #[test]
+fn a_decided_place_is_held_until_its_necessity_falls_under_hold() {
+    let m = row_of_two();
+    let run = |hold: f64| {
+        let cfg = TrackerConfig {
+            hold,
+            ..config(0.0)
+        };
+        let mut t = GridTracker::new(&m, PARAMS, &cfg);
+        let mut out = Vec::new();
+        // Standing still; support 0.3 each frame (≥ min_support 0.2, < θ).
+        // 1: A's cells × 1, B's × 0.4: N_A = 0.6 ≥ 0.5, chosen.
+        // 2: A × 0.75 → 0.75, B 0.4 → normalised by 0.75: π_B = 0.5333, N_A = 0.4667 < θ
+        //    (Inc = 0.25).
+        // 3: A × 0.5 → 0.5, B × 1 → 0.5333: π_B = 1, π_A = 0.9375, N_A = 0.
+        for possibility in [[1.0, 0.4], [0.75, 1.0], [0.5, 1.0]] {
+            let d = t.step(&evidence(&[0.3, 0.3], &possibility), east(0.0), Some(0.0));
+            out.push((d.place(), t.distribution().necessity[0]));
+        }
+        out
+    };
+    let near = |a: f64, b: f64| (a - b).abs() < 1e-5;
+    let off = run(1.0);
+    let on = run(0.4);
+    for (k, want) in [0.6, 1.0 - 0.4 / 0.75, 0.0].into_iter().enumerate() {
+        assert!(
+            near(off[k].1, want) && near(on[k].1, want),
+            "frame {k}: {off:?} {on:?}"
+        );
+    }
+    assert_eq!(
+        off.iter().map(|f| f.0).collect::<Vec<_>>(),
+        [Some(0), None, None]
+    );
+    // With hold 0.4, frame 2's N_A = 0.4667 keeps A; frame 3's 0 does not.
+    assert_eq!(
+        on.iter().map(|f| f.0).collect::<Vec<_>>(),
+        [Some(0), Some(0), None]
+    );
+    // A hold above the frame's necessity keeps nothing.
+    assert_eq!(run(0.5)[1].0, None);
+}
+
+#[test]
 fn without_a_heading_the_belief_is_blurred_not_moved() {
     let m = row_of_two();
     let mut t = GridTracker::new(&m, PARAMS, &config(0.0));

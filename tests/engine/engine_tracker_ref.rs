@@ -41,6 +41,8 @@ struct Reference {
     dist: PlaceDistribution,
     /// `pred_j` of the last step, every anchor's terms in it.
     pred: Vec<f64>,
+    /// The place decided in the last step, if any (for `hold`).
+    last: Option<usize>,
 }
 
 /// Distance from point `p` to the box `[x0, x1] × [y0, y1]` (0 inside).
@@ -147,6 +149,7 @@ impl Reference {
                 .collect(),
             dist: PlaceDistribution::new(n),
             pred: vec![1.0; n],
+            last: None,
         }
     }
 
@@ -267,8 +270,20 @@ impl Reference {
             self.since.fill(0.0);
             self.disp.fill(Some([0.0; 2]));
         }
-        let d = decide(&self.dist, self.params);
-        match d {
+        let mut d = decide(&self.dist, self.params);
+        // Hysteresis: the last place stays while N ≥ hold (less the decision's tie tolerance),
+        // unless the frame is inconsistent or names a place of its own.
+        if let (Some(p), Decision::Disoriented(why)) = (self.last, d) {
+            let n = self.dist.necessity[p];
+            let inconsistent = matches!(why, Disoriented::Inconsistent { .. });
+            if self.cfg.hold < 1.0 && !inconsistent && n >= self.cfg.hold - 1e-9 {
+                d = Decision::Place {
+                    place: p,
+                    necessity: n,
+                };
+            }
+        }
+        let d = match d {
             Decision::Place { place, .. } if max_support < self.cfg.min_support => {
                 Decision::Disoriented(Disoriented::NothingAboveThreshold {
                     best: place,
@@ -276,7 +291,9 @@ impl Reference {
                 })
             }
             d => d,
-        }
+        };
+        self.last = d.place();
+        d
     }
 }
 
@@ -346,7 +363,14 @@ fn config() -> impl Strategy<Value = TrackerConfig> {
     let norm = prop_oneof![Just(Normalisation::Min), Just(Normalisation::Product)];
     (
         (unit(), tnorm, len(), len(), len(), len()),
-        (unit(), unit(), norm, unit()),
+        // hold: off (1) half the time.
+        (
+            unit(),
+            unit(),
+            norm,
+            unit(),
+            prop_oneof![Just(1.0), 0.0..=1.0f64],
+        ),
         (any::<bool>(), len(), len(), len(), len()),
         // The horizon: usually past every path of these small maps, sometimes cutting them.
         prop_oneof![Just(f64::INFINITY), Just(0.0), 0.0..8.0f64],
@@ -354,7 +378,7 @@ fn config() -> impl Strategy<Value = TrackerConfig> {
         .prop_map(
             |(
                 (bias, tnorm, tolerance, tolerance_rel, slope, slope_rel),
-                (anchor_support, min_support, normalisation, conflict),
+                (anchor_support, min_support, normalisation, conflict, hold),
                 (use_heading, tolerance_d, tolerance_d_rel, slope_d, slope_d_rel),
                 horizon_m,
             )| {
@@ -367,6 +391,7 @@ fn config() -> impl Strategy<Value = TrackerConfig> {
                     slope_rel,
                     anchor_support,
                     min_support,
+                    hold,
                     normalisation,
                     conflict,
                     use_heading,
