@@ -32,7 +32,7 @@ fn the_laser_rules_track_as_the_intel_tracker_file() {
     // comments say why).
     let laser = TrackerConfig {
         min_support: 0.05,
-        hold: 0.4,
+        hold: 0.3,
         ..file
     };
     for (rules, want) in [("rules/intel.lpl", &file), ("rules/laser.lpl", &laser)] {
