@@ -426,9 +426,9 @@ mod tests {
             };
             assert!(cfg.validate().is_err(), "{motion:?}");
         }
-        assert!(GridConfig::from_ron(
-            "(cell_motion: HeadingClasses(bins: 16, max_bias: 0.5, max_width: 1.0))"
-        )
-        .is_ok());
+        let ron = "(cell_motion: HeadingClasses(bins: 16, max_bias: 0.5, max_width: 1.0))";
+        assert!(GridConfig::from_ron(ron).is_ok());
+        let unknown = ron.replace("1.0)", "1.0, bins_x: 2)");
+        assert!(GridConfig::from_ron(&unknown).is_err(), "{unknown}");
     }
 }
