@@ -51,6 +51,9 @@ pub struct FuzzyGrid {
     pub(super) alpha: Vec<f32>,
     pub(super) bias: Vec<f32>,
     pub(super) pending: Pending,
+    /// Sub-cell displacement carried per heading class under
+    /// [`CellMotion::HeadingClasses`](super::CellMotion) (empty otherwise), metres along x, y.
+    pub(super) class_rem: Vec<[f32; 2]>,
     /// Decisions of the last motion application (diagnostics only).
     pub(super) trace: MotionTrace,
     /// Height of the plane before the last normalisation.
@@ -82,6 +85,7 @@ impl FuzzyGrid {
         }
         let (nx, ny) = (nxf as usize, nyf as usize);
         let n = nx * ny;
+        let bins = super::classes::bins(&cfg);
         let mut g = FuzzyGrid {
             cell: cfg.cell_size,
             cfg,
@@ -96,6 +100,7 @@ impl FuzzyGrid {
             alpha: vec![0.0; n],
             bias: vec![1.0; n],
             pending: Pending::default(),
+            class_rem: vec![[0.0; 2]; bins],
             trace: MotionTrace::default(),
             last_height: 1.0,
             work: Workspace::for_grid(nx, ny),
@@ -112,6 +117,7 @@ impl FuzzyGrid {
         self.alpha.fill(0.0);
         self.bias.fill(1.0);
         self.pending = Pending::default();
+        self.class_rem.fill([0.0; 2]);
         self.place_lattice();
         self.trace = MotionTrace::default();
         self.last_height = 1.0;

@@ -116,6 +116,52 @@ pub enum HeadingSets {
     Shared,
 }
 
+/// How the prediction moves each cell ([`crate::grid::classes`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub enum CellMotion {
+    /// The whole plane is shifted along the estimate's heading (paper 000): a cell whose own
+    /// heading set disagrees is moved as if it agreed.
+    #[default]
+    Plane,
+    /// After the plane's shift, each cell whose heading set is clear (bias ≤ `max_bias`,
+    /// support `Δ + 2α` ≤ `max_width` radians) is moved further, so that in all it moves along
+    /// its own heading: cells are put in `bins` classes by their set's centre relative to the
+    /// estimate's heading, each class moved by the odometry turned by its heading, less what
+    /// the plane's shift already moved it (sub-cell remainders carried per class), taking the
+    /// maximum where cells land. Cells without a clear heading move with the plane, as before.
+    HeadingClasses {
+        /// Classes over the circle, from 2 to [`MAX_HEADING_BINS`].
+        bins: u32,
+        /// Largest heading bias of a cell that moves along its own heading, in [0, 1].
+        max_bias: f32,
+        /// Largest support `Δ + 2α` (radians) of a cell that moves along its own heading.
+        max_width: f32,
+    },
+}
+
+/// The largest [`CellMotion::HeadingClasses`] `bins` accepted.
+pub const MAX_HEADING_BINS: u32 = 64;
+
+impl CellMotion {
+    /// Whether the values are usable (see the variants).
+    fn is_valid(&self) -> bool {
+        match *self {
+            CellMotion::Plane => true,
+            CellMotion::HeadingClasses {
+                bins,
+                max_bias,
+                max_width,
+            } => {
+                (2..=MAX_HEADING_BINS).contains(&bins)
+                    && (0.0..=1.0).contains(&max_bias)
+                    && max_width.is_finite()
+                    && max_width >= 0.0
+            }
+        }
+    }
+}
+
 /// A sensor model: the trapezoid `⟨r, Δ, α, 1, b⟩` put around a reading `r`.
 ///
 /// Widths grow with the reading (`core = core_abs + core_rel · |r|`, same for
@@ -206,6 +252,8 @@ pub struct GridConfig {
     /// Where the cells' heading sets come from once the heading is known ([`HeadingSets`]).
     /// Default `PerCell`.
     pub heading_sets: HeadingSets,
+    /// How the prediction moves each cell ([`CellMotion`]). Default `Plane`.
+    pub cell_motion: CellMotion,
     /// Factor on the odometry's translation (forward and left) before the grid uses it: a
     /// calibration of the odometry against ground truth. Default 1. (MRCLAM's velocity
     /// commands over-read the distance travelled by 9–13 % on every robot.)
@@ -315,6 +363,7 @@ impl Default for GridConfig {
             shift: Shift::Cells,
             raised_headings: RaisedHeadings::Keep,
             heading_sets: HeadingSets::PerCell,
+            cell_motion: CellMotion::Plane,
             forward_scale: 1.0,
             turn_scale: 1.0,
             core_per_metre: 0.1,
@@ -416,14 +465,26 @@ impl GridConfig {
                 reason: "must be from 1 to 64",
             });
         }
+        self.validate_modes()?;
+        self.range.validate("range")?;
+        self.bearing.validate("bearing")?;
+        Ok(())
+    }
+
+    /// The values inside the enumerated options ([`Blur`], [`CellMotion`]).
+    fn validate_modes(&self) -> Result<(), GridError> {
         if !self.blur.is_valid() {
             return Err(GridError::BadConfig {
                 field: "blur",
                 reason: "Carry's level must be in (0, 1]",
             });
         }
-        self.range.validate("range")?;
-        self.bearing.validate("bearing")?;
+        if !self.cell_motion.is_valid() {
+            return Err(GridError::BadConfig {
+                field: "cell_motion",
+                reason: "HeadingClasses needs bins in 2..=64, max_bias in [0, 1], max_width ≥ 0",
+            });
+        }
         Ok(())
     }
 }

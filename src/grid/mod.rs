@@ -15,6 +15,7 @@
 pub mod blur;
 pub mod cap;
 pub mod cells;
+pub mod classes;
 pub mod config;
 pub mod dilate;
 pub mod estimate;
@@ -30,8 +31,8 @@ pub use blur::Blur;
 pub use cap::Region;
 pub use cells::FuzzyGrid;
 pub use config::{
-    Combine, Cuts, Dilation, ElementShape, GridConfig, HeadingSets, RaisedHeadings, SensorModel,
-    Shift, MAX_LATTICES,
+    CellMotion, Combine, Cuts, Dilation, ElementShape, GridConfig, HeadingSets, RaisedHeadings,
+    SensorModel, Shift, MAX_HEADING_BINS, MAX_LATTICES,
 };
 pub use estimate::Estimate;
 pub use observe::{Landmark, LandmarkTable, Observation};

@@ -43,6 +43,10 @@
 //!    plus `1 − w` times case 2's, so a heading reliability moving by a hair moves the
 //!    prediction by as little.
 //!
+//! 4. Under [`CellMotion::HeadingClasses`](super::CellMotion), each cell whose heading set is
+//!    clear is then moved further, so that it moves along its own heading
+//!    ([`crate::grid::classes`]).
+//!
 //! The increments are first scaled by `forward_scale` and `turn_scale` (an odometry
 //! calibration; 1 by default).
 //!
@@ -230,6 +234,7 @@ impl FuzzyGrid {
             let (sy, rem_y) = self.whole_cells(ry + w * wy);
             (rx, ry) = (rem_x, rem_y);
             self.shift(sx as isize, sy as isize);
+            self.move_classes(est.theta, w, p.px, p.py);
             self.turn_headings(p.turn);
             core[0] += base_core;
             core[1] += base_core;
@@ -238,6 +243,7 @@ impl FuzzyGrid {
             flank[0] += w * along(wx, wy) + (1.0 - w) * loose;
             flank[1] += w * along(wy, wx) + (1.0 - w) * loose;
         } else {
+            self.move_classes(est.theta, 0.0, p.px, p.py);
             self.turn_headings(p.turn);
             core[0] += base_core;
             core[1] += base_core;
@@ -293,7 +299,7 @@ impl FuzzyGrid {
     /// A displacement `r` (metres) as whole cells and the remainder. A shift beyond the grid
     /// empties it whatever its size: it is clamped so that absurd (but finite) odometry cannot
     /// overflow an index, and the remainder of a clamped or non-finite shift is dropped.
-    fn whole_cells(&self, r: f32) -> (f32, f32) {
+    pub(super) fn whole_cells(&self, r: f32) -> (f32, f32) {
         let lim = (self.nx.max(self.ny) + 1) as f32;
         let c = (r / self.cell).round();
         if c.is_finite() && c.abs() <= lim {

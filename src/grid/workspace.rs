@@ -30,6 +30,9 @@ pub(crate) struct Workspace {
     /// ([`super::RaisedHeadings`]): empty until the first such blur, so that a grid that does
     /// not use it does not pay a plane for it.
     pub(super) before: Vec<f32>,
+    /// The cells a heading-class motion moves ([`super::CellMotion`]): empty until the first
+    /// such motion, then never more than the grid's cells.
+    pub(super) movers: Vec<super::classes::Mover>,
 }
 
 impl Workspace {
@@ -43,6 +46,7 @@ impl Workspace {
             deque: vec![0; longest],
             cm: vec![0.0; super::dilate::chunk_len(nx, ny)],
             before: Vec::new(),
+            movers: Vec::new(),
         }
     }
 }

@@ -217,3 +217,26 @@ fn mrclam_robot1_ate_is_locked_in() {
     assert!(rep.first_fix.unwrap().after < 10.0);
     assert_eq!(rep.rejected, 0);
 }
+
+/// config/grid-mrclam-classes.ron is config/grid-mrclam-accurate.ron with the cells moved along
+/// their heading classes and nothing else, as its header and docs/compare.md compare them.
+#[test]
+fn the_classes_file_is_the_accurate_file_with_cell_motion() {
+    use lplace::grid::CellMotion;
+    let accurate =
+        GridConfig::from_ron(include_str!("../../config/grid-mrclam-accurate.ron")).unwrap();
+    let classes =
+        GridConfig::from_ron(include_str!("../../config/grid-mrclam-classes.ron")).unwrap();
+    assert_eq!(accurate.cell_motion, CellMotion::Plane);
+    assert!(matches!(
+        classes.cell_motion,
+        CellMotion::HeadingClasses { bins: 16, .. }
+    ));
+    assert_eq!(
+        GridConfig {
+            cell_motion: CellMotion::Plane,
+            ..classes
+        },
+        accurate
+    );
+}
