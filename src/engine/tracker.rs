@@ -247,7 +247,7 @@ pub struct TrackerConfig {
     /// Support some place needs in a frame for the tracker to choose any place (default 0.3).
     pub min_support: f64,
     /// Necessity the place decided in the previous frame needs to stay decided, below the rule
-    /// file's threshold that a newly chosen place must meet: hysteresis ([`held`]). Default 1:
+    /// file's threshold that a newly chosen place must meet: hysteresis. Default 1:
     /// none, every frame decides afresh.
     pub hold: f64,
     /// Normalisation of the tracked distribution (default product).
