@@ -165,17 +165,22 @@ mod tests {
         }
     }
 
-    /// A 4 m × 4 m grid, empty, with no blur at all: only the shifts move possibility.
-    fn still(motion: CellMotion) -> FuzzyGrid {
-        let cfg = GridConfig {
+    /// The default configuration with `motion` and no blur at all: only the shifts move
+    /// possibility.
+    fn unblurred(motion: CellMotion) -> GridConfig {
+        GridConfig {
             cell_motion: motion,
             core_per_metre: 0.0,
             flank_per_metre: 0.0,
             flank_per_second: 0.0,
             undirected_per_metre: 0.0,
             ..GridConfig::default()
-        };
-        let mut g = FuzzyGrid::new(cfg, [0.0, 0.0, 4.0, 4.0]).unwrap();
+        }
+    }
+
+    /// A 4 m × 4 m grid, empty, with no blur at all.
+    fn still(motion: CellMotion) -> FuzzyGrid {
+        let mut g = FuzzyGrid::new(unblurred(motion), [0.0, 0.0, 4.0, 4.0]).unwrap();
         g.possibilities_mut().fill(0.0);
         g
     }
@@ -333,15 +338,7 @@ mod tests {
         // Reference: each cell's target worked out alone, the output the maximum over all the
         // cells landing there (vacated cells 0), by a double loop over the cells.
         let motion = classes(8);
-        let cfg = GridConfig {
-            cell_motion: motion,
-            core_per_metre: 0.0,
-            flank_per_metre: 0.0,
-            flank_per_second: 0.0,
-            undirected_per_metre: 0.0,
-            ..GridConfig::default()
-        };
-        let mut g = FuzzyGrid::new(cfg, [0.0, 0.0, 2.0, 1.5]).unwrap();
+        let mut g = FuzzyGrid::new(unblurred(motion), [0.0, 0.0, 2.0, 1.5]).unwrap();
         let mut rng = crate::grid::test_rng(7);
         for r in 0..g.ny() {
             for c in 0..g.nx() {
