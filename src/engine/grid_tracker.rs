@@ -104,7 +104,8 @@ use serde::{Deserialize, Serialize};
 ///
 /// ```ron
 /// (grid: Some((cell_size: 0.25, margin: 1.0, flank: 0.0, flank_per_metre: 0.1, floor: 0.001,
-///                evidence_length_m: 0.5, evidence_max_weight: 1.0, evidence_scans: 10.0)))
+///                evidence_length_m: 0.5, evidence_max_weight: 1.0, evidence_scans: 10.0,
+///                relative_floor: 1.0, start_radius: 1.0)))
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -135,6 +136,16 @@ pub struct GridTrackConfig {
     /// fitted from `n` scans (`param scans = n;`) takes its evidence to the power
     /// `n / (n + evidence_scans)`. 0 takes every place's evidence whole.
     pub evidence_scans: f64,
+    /// How far a surveyed place's evidence may fall for fitting worse than the best-fitting
+    /// place (default 1: not at all). A place with `param scans` takes
+    /// `min(Π'_j, max(relative_floor, α_j / max_k α_k))`, `α` the support: the frame's
+    /// normalised possibility `Π'` gives every place but the best the same degree, so it
+    /// cannot tell a place that nearly fits from one that does not fit at all.
+    pub relative_floor: f64,
+    /// Radius of the belief around the map's `start (x, y);`, metres (default 1): the cells
+    /// whose centres lie within it start at 1, the others at `floor`. Without a `start` (or
+    /// with no cell within the radius) every cell starts at 1.
+    pub start_radius: f64,
 }
 
 impl Default for GridTrackConfig {
@@ -148,6 +159,8 @@ impl Default for GridTrackConfig {
             evidence_length_m: 0.5,
             evidence_max_weight: 1.0,
             evidence_scans: 10.0,
+            relative_floor: 1.0,
+            start_radius: 1.0,
         }
     }
 }
@@ -168,6 +181,7 @@ impl GridTrackConfig {
             ("grid.evidence_length_m", self.evidence_length_m),
             ("grid.evidence_max_weight", self.evidence_max_weight),
             ("grid.evidence_scans", self.evidence_scans),
+            ("grid.start_radius", self.start_radius),
         ] {
             if !(value >= 0.0 && value.is_finite()) {
                 return Err((field, value, "finite, ≥ 0"));
@@ -175,6 +189,9 @@ impl GridTrackConfig {
         }
         if !(0.0..=1.0).contains(&self.floor) {
             return Err(("grid.floor", self.floor, "[0, 1]"));
+        }
+        if !(0.0..=1.0).contains(&self.relative_floor) {
+            return Err(("grid.relative_floor", self.relative_floor, "[0, 1]"));
         }
         Ok(())
     }
@@ -218,6 +235,11 @@ pub struct GridTracker {
     factor: Vec<f32>,
     /// Per place (and, last, between places), `r_j`: the share of its evidence it takes.
     reliance: Vec<f32>,
+    /// Per place, whether it was surveyed (has `param scans`): only those take
+    /// [`GridTrackConfig::relative_floor`].
+    surveyed: Vec<bool>,
+    /// The map's `start (x, y);`.
+    start: Option<(f64, f64)>,
     /// Per place (and, last, between places), the largest cell after normalisation.
     top: Vec<f32>,
     /// Per run, its largest cell after the evidence.
@@ -415,6 +437,11 @@ impl GridTracker {
             runs,
             factor: vec![1.0; n + 1],
             reliance: reliance(places, grid.evidence_scans),
+            surveyed: places
+                .iter()
+                .map(|p| p.param(SCANS_PARAM, None).is_some())
+                .collect(),
+            start: map.start(),
             top: vec![1.0; n + 1],
             run_top: vec![0.0; n_runs],
             running: vec![0.0; nx * ny],
@@ -435,9 +462,10 @@ impl GridTracker {
         t
     }
 
-    /// Forgets everything: every cell equally possible.
+    /// Forgets everything but the map's start: every cell equally possible, or, with a
+    /// `start`, the cells within `start_radius` of it.
     pub fn reset(&mut self) {
-        self.g.fill(1.0);
+        self.start_belief();
         self.heading = None;
         self.remainder = (0.0, 0.0);
         self.pending_flank = 0.0;
@@ -445,6 +473,30 @@ impl GridTracker {
         self.between = 1.0;
         self.dist = PlaceDistribution::new(self.n);
         self.decision = undecided(self.n);
+    }
+
+    /// The belief before any frame: 1 within `start_radius` of the map's start and `floor`
+    /// elsewhere; 1 everywhere without a start or when no cell centre lies within the radius
+    /// (a start off the grid says nothing about where on it the robot is).
+    fn start_belief(&mut self) {
+        self.g.fill(1.0);
+        let Some((sx, sy)) = self.start.filter(|s| s.0.is_finite() && s.1.is_finite()) else {
+            return;
+        };
+        let r = self.cfg.start_radius;
+        let (nx, cell, (ox, oy)) = (self.nx, self.cell, self.origin);
+        let near = |i: usize| {
+            let x = ox + ((i % nx) as f64 + 0.5) * cell;
+            let y = oy + ((i / nx) as f64 + 0.5) * cell;
+            (x - sx).hypot(y - sy) <= r
+        };
+        if !(0..self.g.len()).any(near) {
+            return;
+        }
+        let floor = self.cfg.floor as f32;
+        for (i, v) in self.g.iter_mut().enumerate() {
+            *v = if near(i) { 1.0 } else { floor };
+        }
     }
 
     /// Grid size in cells `(nx, ny)`, the cell side and the lower-left corner (metres).
@@ -701,6 +753,7 @@ impl GridTracker {
             // pass below overwrites it.
             self.dist.possibility[j] = degree_at(&evidence.possibility, j, 1.0).max(self.bias);
         }
+        self.relative_evidence(max_support);
         // The evidence of `w` lengths of travel: each factor to the power `w` (w = 1 is the
         // frame's evidence as it is; bit for bit, as `powf(1)` is exact).
         for ((f, &e), &r) in self
@@ -715,6 +768,20 @@ impl GridTracker {
             *f = (((1.0 - max_support).max(self.bias)) as f32).powf(w);
         }
         max_support
+    }
+
+    /// Caps each surveyed place's evidence factor (in `dist.possibility`) by its support
+    /// relative to the largest, floored at `relative_floor` (see [`GridTrackConfig`]). A frame
+    /// without support says nothing here.
+    fn relative_evidence(&mut self, max_support: f64) {
+        let floor = clamp_degree(self.cfg.relative_floor);
+        if floor >= 1.0 || max_support <= 0.0 {
+            return;
+        }
+        let places = self.dist.possibility.iter_mut().zip(&self.dist.support);
+        for ((e, &a), _) in places.zip(&self.surveyed).filter(|(_, &s)| s) {
+            *e = e.min((a / max_support).max(floor)).max(self.bias);
+        }
     }
 
     /// Multiplies each run by its factor and keeps the run's largest value; returns the plane's

@@ -86,6 +86,8 @@ fn grid_field<'c>(g: &'c mut GridTrackConfig, key: &str) -> Option<&'c mut f64> 
         "evidence_length_m" => &mut g.evidence_length_m,
         "evidence_max_weight" => &mut g.evidence_max_weight,
         "evidence_scans" => &mut g.evidence_scans,
+        "relative_floor" => &mut g.relative_floor,
+        "start_radius" => &mut g.start_radius,
         _ => return None,
     })
 }

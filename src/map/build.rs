@@ -38,7 +38,11 @@ impl Map {
     /// ```
     pub fn from_ast(file: &MapFile) -> Result<Map, Vec<Diagnostic>> {
         let mut diags = Vec::new();
-        let (axis_deg, kinds) = map_statements(file, &mut diags);
+        let MapStatements {
+            axis_deg,
+            start,
+            kinds,
+        } = map_statements(file, &mut diags);
         let (mut rooms, landmarks, place_decls) = declare_items(file, &mut diags);
         let mut places = Vec::with_capacity(place_decls.len());
         for p in place_decls {
@@ -53,6 +57,7 @@ impl Map {
         Ok(Map {
             name: file.name.as_ref().map(|n| n.node.clone()),
             axis_deg,
+            start,
             kinds,
             places,
             rooms,
@@ -62,13 +67,19 @@ impl Map {
     }
 }
 
-/// The building axis and the kinds domain: each at most once, the axis within ±45° (every
-/// wall direction has one representative there, so two spellings of one axis cannot differ).
-fn map_statements(
-    file: &MapFile,
-    diags: &mut Vec<Diagnostic>,
-) -> (Option<f64>, Option<Vec<String>>) {
+/// What the map says as a whole, besides its places, rooms and paths.
+struct MapStatements {
+    axis_deg: Option<f64>,
+    start: Option<(f64, f64)>,
+    kinds: Option<Vec<String>>,
+}
+
+/// The building axis, the start and the kinds domain: each at most once, the axis within ±45°
+/// (every wall direction has one representative there, so two spellings of one axis cannot
+/// differ).
+fn map_statements(file: &MapFile, diags: &mut Vec<Diagnostic>) -> MapStatements {
     let mut axis: Option<(f64, Span)> = None;
+    let mut start: Option<((f64, f64), Span)> = None;
     let mut kinds: Option<(Vec<String>, Span)> = None;
     let twice = |what: &'static str, span: Span, first: Span| {
         Diagnostic::error(DiagnosticKind::DuplicateMapStatement { what }, span)
@@ -89,6 +100,10 @@ fn map_statements(
                     None => axis = Some((v.clamp(-45.0, 45.0), a.span)),
                 }
             }
+            MapItem::Start(s) => match start {
+                Some((_, first)) => diags.push(twice("start", s.span, first)),
+                None => start = Some((s.position.node, s.span)),
+            },
             MapItem::Kinds(k) => {
                 let mut names: BTreeMap<&str, Span> = BTreeMap::new();
                 for n in &k.kinds {
@@ -113,7 +128,11 @@ fn map_statements(
             _ => {}
         }
     }
-    (axis.map(|a| a.0), kinds.map(|k| k.0))
+    MapStatements {
+        axis_deg: axis.map(|a| a.0),
+        start: start.map(|s| s.0),
+        kinds: kinds.map(|k| k.0),
+    }
 }
 
 /// A place whose kind is not in the declared domain (when the map declares one) is reported.
@@ -196,7 +215,7 @@ fn declare_items<'f>(
                     place_decls.push(p);
                 }
             }
-            MapItem::Path(_) | MapItem::Axis(_) | MapItem::Kinds(_) => {}
+            MapItem::Path(_) | MapItem::Axis(_) | MapItem::Start(_) | MapItem::Kinds(_) => {}
         }
     }
     (rooms, landmarks, place_decls)

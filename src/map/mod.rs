@@ -35,6 +35,7 @@ pub struct Map {
     name: Option<String>,
     /// `axis D;`: the building's wall direction in degrees (mod 90°), within ±45°.
     axis_deg: Option<f64>,
+    start: Option<(f64, f64)>,
     /// `kinds {…};`: the declared place kinds, in source order.
     kinds: Option<Vec<String>>,
     places: Vec<Place>,
@@ -68,6 +69,11 @@ impl Map {
     /// The building's axis (`axis D;`): the direction its walls run in, degrees in ±45°.
     pub fn axis_deg(&self) -> Option<f64> {
         self.axis_deg
+    }
+
+    /// Where the runs evaluated with this map begin (`start (x, y);`), map frame, metres.
+    pub fn start(&self) -> Option<(f64, f64)> {
+        self.start
     }
 
     /// The declared place kinds (`kinds {…};`), if the map declares them.

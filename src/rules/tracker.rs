@@ -75,6 +75,8 @@ pub const GRID_KEYS: &[&str] = &[
     "evidence_length_m",
     "evidence_max_weight",
     "evidence_scans",
+    "relative_floor",
+    "start_radius",
 ];
 
 fn tracker_kind(key: &str) -> Kind {
@@ -93,7 +95,7 @@ fn tracker_kind(key: &str) -> Kind {
 fn grid_kind(key: &str) -> Kind {
     match key {
         "cell_size" => Kind::Positive,
-        "floor" => Kind::Unit,
+        "floor" | "relative_floor" => Kind::Unit,
         _ => Kind::Length,
     }
 }

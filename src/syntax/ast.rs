@@ -354,6 +354,18 @@ pub enum MapItem {
     Axis(AxisDecl),
     /// `kinds {corner, doorway, …};`: the place kinds this map may use.
     Kinds(KindsDecl),
+    /// `start (x, y);`: where the runs evaluated with this map begin, in the map frame.
+    Start(StartDecl),
+}
+
+/// `start (x, y);` — where the runs evaluated with this map begin (map frame, metres): the
+/// metric tracker starts from there instead of from total ignorance.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StartDecl {
+    /// The point as written.
+    pub position: Spanned<(f64, f64)>,
+    /// The whole statement.
+    pub span: Span,
 }
 
 /// `axis D;` — the direction (degrees, counter-clockwise from +x) the building's walls run in,

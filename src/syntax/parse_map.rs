@@ -89,6 +89,13 @@ impl Builder<'_> {
             let degrees = self.number(n);
             return Some(MapItem::Axis(AxisDecl { degrees, span }));
         }
+        if kind == R::start_decl {
+            let point = children.iter().find(|x| x.as_rule() == R::point)?.clone();
+            let pspan = self.span(&point);
+            let xy = self.numbers(point);
+            let position = Spanned::new((xy.first().copied()?, xy.get(1).copied()?), pspan);
+            return Some(MapItem::Start(StartDecl { position, span }));
+        }
         let idents: Vec<Ident> = children
             .iter()
             .filter(|x| x.as_rule() == R::ident)

@@ -37,6 +37,8 @@ fn config(flank_per_metre: f64) -> TrackerConfig {
             evidence_length_m: 0.0,
             evidence_max_weight: 1.0,
             evidence_scans: 10.0,
+            relative_floor: 1.0,
+            start_radius: 1.0,
         }),
         ..TrackerConfig::default()
     }
@@ -150,6 +152,82 @@ fn a_place_fitted_from_few_scans_takes_a_share_of_its_evidence() {
     // A place without a count (described, or written by hand), or `evidence_scans = 0`: whole.
     assert!(close(pi_b_with_scans(None, 10.0), 0.25));
     assert!(close(pi_b_with_scans(Some(10), 0.0), 0.25));
+}
+
+/// B's possibility after one frame standing still whose normalised possibilities leave A and
+/// B alike (Π' = 1 each: the drowned frame) while their supports are 0.8 and 0.2; both places
+/// surveyed from `scans_b` scans (`None`: B described), evidence taken whole.
+fn pi_b_relative(relative_floor: f64, scans_b: Option<u32>, support: [f64; 2]) -> f64 {
+    let b = scans_b.map_or(";".to_owned(), |n| format!(" {{ param scans = {n}; }}"));
+    let m = map(&format!(
+        "place A corridor at (1, 0.5) extent box (0, 0, 2, 1) {{ param scans = 50; }}
+         place B corridor at (3, 0.5) extent box (2, 0, 4, 1){b}
+         path A -- B;"
+    ));
+    let mut cfg = config(0.0);
+    if let Some(g) = cfg.grid.as_mut() {
+        g.evidence_scans = 0.0;
+        g.relative_floor = relative_floor;
+    }
+    let mut t = GridTracker::new(&m, PARAMS, &cfg);
+    t.step(&evidence(&support, &[1.0, 1.0]), east(0.0), None);
+    t.distribution().possibility[1]
+}
+
+#[test]
+fn a_surveyed_place_that_fits_worse_than_the_best_loses_down_to_the_relative_floor() {
+    // B's support is 0.2 / 0.8 = 0.25 of the best: its factor is min(1, max(floor, 0.25)).
+    assert!(close(pi_b_relative(0.5, Some(50), [0.8, 0.2]), 0.5));
+    assert!(close(pi_b_relative(0.1, Some(50), [0.8, 0.2]), 0.25));
+    // 1 turns it off; B equal to the best loses nothing.
+    assert!(close(pi_b_relative(1.0, Some(50), [0.8, 0.2]), 1.0));
+    assert!(close(pi_b_relative(0.1, Some(50), [0.8, 0.8]), 1.0));
+    // Only surveyed places take it (B described keeps Π'), and a frame without support says
+    // nothing.
+    assert!(close(pi_b_relative(0.1, None, [0.8, 0.2]), 1.0));
+    assert!(close(pi_b_relative(0.1, Some(50), [0.0, 0.0]), 1.0));
+}
+
+/// The decision after one frame standing still that tells A and B apart in nothing, on the row
+/// of two with `start` (if any) and `start_radius`.
+fn first_decision(start: Option<(f64, f64)>, radius: f64) -> (Decision, Vec<f64>) {
+    let s = start.map_or(String::new(), |(x, y)| format!("start ({x}, {y});"));
+    let m = map(&format!(
+        "{s} place A corridor at (1, 0.5) extent box (0, 0, 2, 1);
+         place B corridor at (3, 0.5) extent box (2, 0, 4, 1);
+         path A -- B;"
+    ));
+    let mut cfg = config(0.0);
+    if let Some(g) = cfg.grid.as_mut() {
+        g.start_radius = radius;
+    }
+    let mut t = GridTracker::new(&m, PARAMS, &cfg);
+    let d = t.step(&evidence(&[0.4, 0.4], &[1.0, 1.0]), east(0.0), Some(0.0));
+    (d, t.distribution().possibility.clone())
+}
+
+#[test]
+fn the_belief_starts_at_the_maps_start() {
+    // Cells of 0.5 m: centres x = 0.25, 0.75, …, y = 0.25, 0.75. Within 0.5 m of (0.75, 0.5)
+    // lie (0.75, 0.25) and (0.75, 0.75), both in A (0.25 m away; (0.25, 0.25) is 0.56 m): A's
+    // cells start at 1, B's at the floor 0.001, so N_A = 0.999.
+    let (d, pi) = first_decision(Some((0.75, 0.5)), 0.5);
+    assert_eq!(d.place(), Some(0));
+    assert!(close(pi[0], 1.0) && close(pi[1], 0.001), "{pi:?}");
+    // A radius reaching both places (the whole row is within 3.3 m) starts from ignorance.
+    let (d, pi) = first_decision(Some((2.0, 0.5)), 3.3);
+    assert!(matches!(d, Decision::Disoriented(_)), "{d:?}");
+    assert!(close(pi[0], 1.0) && close(pi[1], 1.0));
+    // No start, or one whose radius holds no cell centre (off the grid): total ignorance.
+    for (start, radius) in [
+        (None, 1.0),
+        (Some((10.0, 10.0)), 1.0),
+        (Some((0.5, 0.5)), 0.1),
+    ] {
+        let (d, pi) = first_decision(start, radius);
+        assert!(matches!(d, Decision::Disoriented(_)), "{start:?}: {d:?}");
+        assert!(close(pi[0], 1.0) && close(pi[1], 1.0));
+    }
 }
 
 #[test]
@@ -464,7 +542,7 @@ proptest! {
         let n = m.places().len();
         let cfg = TrackerConfig {
             bias,
-            grid: Some(GridTrackConfig { cell_size: 0.5, margin: 0.5, flank, flank_per_metre, floor, evidence_length_m: 0.0, evidence_max_weight: 8.0, evidence_scans: 10.0 }),
+            grid: Some(GridTrackConfig { cell_size: 0.5, margin: 0.5, flank, flank_per_metre, floor, evidence_length_m: 0.0, evidence_max_weight: 8.0, evidence_scans: 10.0, relative_floor: 1.0, start_radius: 1.0 }),
             ..TrackerConfig::default()
         };
         let mut fast = GridTracker::new(&m, PARAMS, &cfg);

@@ -12,7 +12,7 @@
 //! on the same log and re-surveyed on first visits. Prints the table (`cargo test --release
 //! --test io buildings -- --nocapture` reruns it) and locks each figure a little below what was
 //! measured: the `rules/intel.lpl` rows on 2026-12-02/03, the `rules/laser.lpl` rows on
-//! 2026-12-03 after the scan match's turn was taken where it agrees with the odometry's. Skips a building whose log is
+//! 2026-12-04 with the maps' `start` and `rules/laser.lpl`'s relative floor. Skips a building whose log is
 //! absent (`$LPLACE_DATA`, else `../shared/data`); a gzipped log is read as it is.
 
 use crate::support::carmen::{self, repo};
@@ -75,13 +75,13 @@ const BUILDINGS: [Building; 4] = [
             held_out: (0.10, 0.80, 0.01),
         }),
         config: Some("config/intel.ron"),
-        // Measured with rules/laser.lpl and the travelling settings (with its threshold 0.55
-        // and hold 0.3, 2026-12-04): 67.7 % / 94.2 % / 0 %. Every visit fitted into the
-        // floor-plan map: 70.8 % / 96.0 % / 0 % (66.7 % / 96.9 % at θ 0.5 without the hold).
-        same_log_laser: (0.70, 0.95, 0.01),
-        held_out_laser: (0.66, 0.93, 0.01),
-        // Measured: 48.1 % / 93.1 % / 0 % (57.3 % / 90.8 % before), a place asserted on none
-        // of the 3 scans outside.
+        // Measured with rules/laser.lpl and the travelling settings (2026-12-04, the map's
+        // `start` and the relative floor 0.5): 63.6 % / 92.9 % / 0 % (67.7 % / 94.2 % before).
+        // Every visit fitted into the floor-plan map: 82.9 % / 96.3 % / 0 % (70.8 % / 96.0 %).
+        same_log_laser: (0.82, 0.96, 0.01),
+        held_out_laser: (0.63, 0.92, 0.01),
+        // Measured: 47.7 % / 93.3 % / 0 % (48.1 % / 93.1 % from ignorance), a place asserted
+        // on none of the 3 scans outside.
         plan: "maps/intel-plan.map",
         plan_figures: (0.47, 0.92, 0.01),
         plan_outside: 0.34,
@@ -97,15 +97,16 @@ const BUILDINGS: [Building; 4] = [
             held_out: (0.30, 0.65, 0.01),
         }),
         config: Some("config/freiburg-101.ron"),
-        // Measured with rules/laser.lpl and the travelling settings: 65.1 % / 99.3 % / 0 %.
-        // Every visit fitted into the floor-plan map: 80.1 % / 99.1 % / 0 %.
-        same_log_laser: (0.79, 0.98, 0.01),
-        held_out_laser: (0.63, 0.98, 0.01),
-        // Measured: 62.0 % / 88.4 % / 0 %, under the goal's 90 % right (the hall's walls
-        // taper ~10° off its axis and the heading follows them on 13 % of the scans). A place
-        // asserted on none of the scans outside.
+        // Measured with rules/laser.lpl and the travelling settings (2026-12-04, the map's
+        // `start` and the relative floor 0.5): 69.4 % / 95.0 % / 0 % (65.1 % / 99.3 % before).
+        // Every visit fitted into the floor-plan map: 95.9 % / 98.2 % / 0 % (80.1 % / 99.1 %).
+        same_log_laser: (0.95, 0.97, 0.01),
+        held_out_laser: (0.69, 0.94, 0.01),
+        // Measured: 84.2 % / 91.1 % / 1.0 % (62.0 % / 88.4 % / 0 % from ignorance: the hall's
+        // walls taper ~10° off its axis and the heading follows them on 13 % of the scans). A
+        // place asserted on none of the scans outside.
         plan: "maps/freiburg-101-plan.map",
-        plan_figures: (0.60, 0.87, 0.01),
+        plan_figures: (0.84, 0.90, 0.011),
         plan_outside: 0.05,
     },
     // Measured: same log 73.9 % / 99.4 % / 0 %; held out (125 scans) 52.0 % / 100 % / 0 %
@@ -119,14 +120,15 @@ const BUILDINGS: [Building; 4] = [
             held_out: (0.50, 0.97, 0.01),
         }),
         config: Some("config/seattle.ron"),
-        // Measured with rules/laser.lpl and the travelling settings (the scan match, the
-        // threshold and hold): 92.8 % / 100 % / 0 %. Every visit fitted into the floor-plan
-        // map: 84.6 % / 99.0 % / 0 %.
-        same_log_laser: (0.83, 0.98, 0.01),
-        held_out_laser: (0.91, 0.98, 0.01),
-        // Measured: 60.2 % / 95.2 % / 0 %, no scan outside every extent.
+        // Measured with rules/laser.lpl and the travelling settings (2026-12-04, the map's
+        // `start` and the relative floor 0.5): 94.4 % / 100 % / 0 % (92.8 % / 100 % before).
+        // Every visit fitted into the floor-plan map: 92.9 % / 99.1 % / 0 % (84.6 % / 99.0 %).
+        same_log_laser: (0.92, 0.98, 0.01),
+        held_out_laser: (0.94, 0.98, 0.01),
+        // Measured: 81.3 % / 98.5 % / 0 % (60.2 % / 95.2 % from ignorance), no scan outside
+        // every extent.
         plan: "maps/seattle-plan.map",
-        plan_figures: (0.59, 0.94, 0.01),
+        plan_figures: (0.81, 0.97, 0.01),
         plan_outside: 0.05,
     },
     // Mapped blind (issue 17): the floor plan drawn from a picture of the corrected scans
@@ -138,16 +140,17 @@ const BUILDINGS: [Building; 4] = [
     // log 61.3 % / 91.3 % / 0 %, held out 57.9 % / 86.4 % / 0 %, floor plan 68.6 % / 85.6 % /
     // 0 %, a place asserted on 6 of the 11 scans outside (docs/new-building.md, section 5).
     // With the threshold 0.55 and the hold 0.3 (2026-12-04): 64.8 % / 91.4 % / 0 %, 60.7 % /
-    // 87.1 % / 0 %, 61.3 % / 95.0 % / 0 %.
+    // 87.1 % / 0 %, 61.3 % / 95.0 % / 0 %. With the map's `start` and the relative floor 0.5
+    // (2026-12-04): 74.2 % / 95.9 % / 0 %, 59.3 % / 90.4 % / 0 %, 73.2 % / 91.7 % / 0 %.
     Building {
         name: "CSAIL",
         log: "carmen-corrected-logs/csail-corrected.log",
         intel: None,
         config: None,
-        same_log_laser: (0.63, 0.90, 0.01),
-        held_out_laser: (0.59, 0.86, 0.01),
+        same_log_laser: (0.74, 0.95, 0.01),
+        held_out_laser: (0.59, 0.90, 0.01),
         plan: "maps/csail-plan.map",
-        plan_figures: (0.60, 0.94, 0.01),
+        plan_figures: (0.73, 0.91, 0.01),
         plan_outside: 0.56,
     },
 ];

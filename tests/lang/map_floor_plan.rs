@@ -43,6 +43,23 @@ fn axis_is_read_and_checked() {
 }
 
 #[test]
+fn start_is_read_once() {
+    assert_eq!(
+        map("start (1.5, -2); place A hall at (0, 0);").start(),
+        Some((1.5, -2.0))
+    );
+    assert_eq!(map("place A hall at (0, 0);").start(), None);
+    let text = "start (0, 0); place A hall at (0, 0);\nstart (1, 1);";
+    let d = errors(text);
+    assert_eq!(d.len(), 1);
+    assert!(matches!(
+        d[0].kind,
+        DiagnosticKind::DuplicateMapStatement { what: "start" }
+    ));
+    assert_eq!(&text[d[0].span.start..d[0].span.end], "start (1, 1);");
+}
+
+#[test]
 fn rotated_box_by_hand() {
     // (0,0)–(4,2) turned 90° about its centre (2,1) is x in [1,3], y in [-1,3].
     let m = map("place A room at (2, 1) extent box (0, 0, 4, 2) rotated 90;");

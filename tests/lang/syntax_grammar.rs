@@ -307,6 +307,21 @@ fn map_param_ranges() {
         rule: MapRule::param,
         tokens: [param(0, 19, [kw_param(0, 5), ident(6, 7), number(10, 11), number(15, 18)])]
     };
+    // `start (x, y);`: a point, like a landmark's.
+    parses_to! {
+        parser: MapGrammar,
+        input: "start (1.5, -2);",
+        rule: MapRule::start_decl,
+        tokens: [start_decl(0, 16, [kw_start(0, 5), point(6, 15, [number(7, 10), number(12, 14)])])]
+    };
+    fails_with! {
+        parser: MapGrammar,
+        input: "start 1.5, -2;",
+        rule: MapRule::start_decl,
+        positives: vec![MapRule::point],
+        negatives: vec![],
+        pos: 6
+    };
     // `1..2` is a range, not the number `1.` followed by `.2`.
     parses_to! {
         parser: MapGrammar,
