@@ -611,27 +611,42 @@ impl GridTracker {
     }
 
     /// Moves the plane by `(sx, sy)` cells; cells entering from outside get 0 (the floor lifts
-    /// them in the evidence step).
+    /// them in the evidence step). Row-major, the move is one shift of the whole buffer by
+    /// `sy·nx + sx`: a cell carried across a row's end is one that entered from the side, so
+    /// it is zeroed with the rows that entered.
     fn shift(&mut self, sx: i64, sy: i64) {
         if sx == 0 && sy == 0 {
             return;
         }
         let (nx, ny) = (self.nx as i64, self.ny as i64);
-        self.scratch.fill(0.0);
-        if sx.abs() < nx && sy.abs() < ny {
-            let len = (nx - sx.abs()) as usize;
-            let (src_c, dst_c) = if sx >= 0 { (0, sx) } else { (-sx, 0) };
-            for r in 0..ny {
-                let t = r + sy;
-                if t < 0 || t >= ny {
-                    continue;
-                }
-                let src = (r * nx + src_c) as usize;
-                let dst = (t * nx + dst_c) as usize;
-                self.scratch[dst..dst + len].copy_from_slice(&self.g[src..src + len]);
+        if sx.abs() >= nx || sy.abs() >= ny {
+            self.g.fill(0.0);
+            return;
+        }
+        let len = self.g.len();
+        let off = (sy * nx + sx).unsigned_abs() as usize;
+        if sy * nx + sx > 0 {
+            self.g.copy_within(..len - off, off);
+        } else {
+            self.g.copy_within(off.., 0);
+        }
+        let (nx, sxa) = (self.nx, sx.unsigned_abs() as usize);
+        let entered_rows = sy.unsigned_abs() as usize * nx;
+        if sy > 0 {
+            self.g[..entered_rows].fill(0.0);
+        } else if sy < 0 {
+            self.g[len - entered_rows..].fill(0.0);
+        }
+        if sxa > 0 {
+            for row in self.g.chunks_exact_mut(nx) {
+                let side = if sx > 0 {
+                    &mut row[..sxa]
+                } else {
+                    &mut row[nx - sxa..]
+                };
+                side.fill(0.0);
             }
         }
-        std::mem::swap(&mut self.g, &mut self.scratch);
     }
 
     /// Sup-min dilation by the square element with profile `p` along both axes: the element
