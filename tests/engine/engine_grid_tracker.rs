@@ -124,9 +124,15 @@ fn evidence_is_taken_per_metre_not_per_frame() {
     assert!(close(pi_b_after(1, 2.0, 0.5), 0.25));
 }
 
-/// B's possibility after one frame standing still with evidence against it (Π'_B = 0.25), B's
-/// expectations fitted from `scans` scans (`None`: no `param scans`) and `evidence_scans`.
-fn pi_b_with_scans(scans: Option<u32>, evidence_scans: f64) -> f64 {
+/// B's possibility after one frame standing still with evidence `support` and `possibility`
+/// (Π'), A surveyed from 1000 scans and B from `scans` (`None`: no `param scans`), the grid's
+/// settings changed by `set`.
+fn pi_b_surveyed(
+    scans: Option<u32>,
+    set: impl Fn(&mut GridTrackConfig),
+    support: [f64; 2],
+    possibility: [f64; 2],
+) -> f64 {
     let b = scans.map_or(";".to_owned(), |n| format!(" {{ param scans = {n}; }}"));
     let m = map(&format!(
         "place A corridor at (1, 0.5) extent box (0, 0, 2, 1) {{ param scans = 1000; }}
@@ -135,11 +141,17 @@ fn pi_b_with_scans(scans: Option<u32>, evidence_scans: f64) -> f64 {
     ));
     let mut cfg = config(0.0);
     if let Some(g) = cfg.grid.as_mut() {
-        g.evidence_scans = evidence_scans;
+        set(g);
     }
     let mut t = GridTracker::new(&m, PARAMS, &cfg);
-    t.step(&evidence(&[0.8, 0.0], &[1.0, 0.25]), east(0.0), None);
+    t.step(&evidence(&support, &possibility), east(0.0), None);
     t.distribution().possibility[1]
+}
+
+/// B's possibility after one frame against it (Π'_B = 0.25) with `evidence_scans`.
+fn pi_b_with_scans(scans: Option<u32>, evidence_scans: f64) -> f64 {
+    let set = |g: &mut GridTrackConfig| g.evidence_scans = evidence_scans;
+    pi_b_surveyed(scans, set, [0.8, 0.0], [1.0, 0.25])
 }
 
 #[test]
@@ -154,24 +166,14 @@ fn a_place_fitted_from_few_scans_takes_a_share_of_its_evidence() {
     assert!(close(pi_b_with_scans(Some(10), 0.0), 0.25));
 }
 
-/// B's possibility after one frame standing still whose normalised possibilities leave A and
-/// B alike (Π' = 1 each: the drowned frame) while their supports are 0.8 and 0.2; both places
-/// surveyed from `scans_b` scans (`None`: B described), evidence taken whole.
+/// B's possibility after one frame whose normalised possibilities leave A and B alike (Π' = 1
+/// each: the drowned frame) while their supports are `support`, evidence taken whole.
 fn pi_b_relative(relative_floor: f64, scans_b: Option<u32>, support: [f64; 2]) -> f64 {
-    let b = scans_b.map_or(";".to_owned(), |n| format!(" {{ param scans = {n}; }}"));
-    let m = map(&format!(
-        "place A corridor at (1, 0.5) extent box (0, 0, 2, 1) {{ param scans = 50; }}
-         place B corridor at (3, 0.5) extent box (2, 0, 4, 1){b}
-         path A -- B;"
-    ));
-    let mut cfg = config(0.0);
-    if let Some(g) = cfg.grid.as_mut() {
+    let set = |g: &mut GridTrackConfig| {
         g.evidence_scans = 0.0;
         g.relative_floor = relative_floor;
-    }
-    let mut t = GridTracker::new(&m, PARAMS, &cfg);
-    t.step(&evidence(&support, &[1.0, 1.0]), east(0.0), None);
-    t.distribution().possibility[1]
+    };
+    pi_b_surveyed(scans_b, set, support, [1.0, 1.0])
 }
 
 #[test]
