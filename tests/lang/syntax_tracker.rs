@@ -2,6 +2,7 @@
 //! tracks with, equal to a tracker file's; a bad key or value is an error at its span.
 
 use crate::support::carmen::repo;
+use lplace::engine::grid_tracker::GridTrackConfig;
 use lplace::engine::tracker::TrackerConfig;
 use lplace::engine::{CompileOptions, Engine};
 use lplace::map::Map;
@@ -28,12 +29,18 @@ fn errors(text: &str) -> Vec<(DiagnosticKind, String)> {
 #[test]
 fn the_laser_rules_track_as_the_intel_tracker_file() {
     let file = TrackerConfig::from_ron(&repo("config/intel-tracker.ron")).expect("tracker file");
-    // rules/laser.lpl takes a place on less support of its own and holds a decided one (its
-    // comments say why).
+    // rules/laser.lpl takes a place on less support of its own, holds a decided one and lets a
+    // surveyed place that fits worse than the best lose down to a relative floor (its comments
+    // say why).
+    let grid = file.grid.clone().map(|g| GridTrackConfig {
+        relative_floor: 0.5,
+        ..g
+    });
     let laser = TrackerConfig {
         min_support: 0.05,
         hold: 0.3,
-        ..file
+        grid,
+        ..file.clone()
     };
     for (rules, want) in [("rules/intel.lpl", &file), ("rules/laser.lpl", &laser)] {
         let map = SourceFile::new("maps/intel.map", repo("maps/intel.map"));
