@@ -32,7 +32,7 @@ fn the_laser_rules_track_as_the_intel_tracker_file() {
     // rules/laser.lpl takes a place on less support of its own, holds a decided one and lets a
     // surveyed place that fits worse than the best lose down to a relative floor (its comments
     // say why).
-    let grid = file.grid.clone().map(|g| GridTrackConfig {
+    let grid = file.grid.map(|g| GridTrackConfig {
         relative_floor: 0.5,
         ..g
     });
@@ -40,7 +40,7 @@ fn the_laser_rules_track_as_the_intel_tracker_file() {
         min_support: 0.05,
         hold: 0.3,
         grid,
-        ..file.clone()
+        ..file
     };
     for (rules, want) in [("rules/intel.lpl", &file), ("rules/laser.lpl", &laser)] {
         let map = SourceFile::new("maps/intel.map", repo("maps/intel.map"));
