@@ -101,7 +101,7 @@ use super::config::{finite, non_negative, positive, ConfigError};
 use super::scan::ScanView;
 use super::scan_match::{Match, MatchParams, ScanMatcher};
 use super::scan_rotation::{
-    line_histogram, rotation_between, rotation_candidates, BINS as LINE_BINS,
+    line_histogram_of, rotation_between, rotation_candidates, segments, BINS as LINE_BINS,
 };
 use crate::core::angle::wrap_pi;
 use crate::core::Pose2;
@@ -492,7 +492,10 @@ pub struct CompassRecord {
 pub fn orientation(scan: &ScanView<'_>, cfg: &CompassConfig) -> Option<(f64, f64)> {
     let mut local = Vec::with_capacity(scan.ranges.len());
     local_points(scan, cfg, &mut Vec::new(), &mut local);
-    orientation_of(&local, cfg, beams_apart(cfg.segment_deg, scan.bearing_step))
+    let mut found = Vec::new();
+    let stride = beams_apart(cfg.segment_deg, scan.bearing_step);
+    segments(&local, stride, cfg.max_gap_m, &mut found);
+    orientation_of(&found, cfg)
 }
 
 /// How many beams of a scan with `step` radians between beams make up `angle_deg` degrees, at
@@ -539,25 +542,12 @@ fn local_points(
     }));
 }
 
-/// [`orientation`] from the scan's points in the robot frame.
-fn orientation_of(
-    points: &[Option<(f64, f64)>],
-    cfg: &CompassConfig,
-    stride: usize,
-) -> Option<(f64, f64)> {
+/// [`orientation`] from the scan's [`segments`].
+fn orientation_of(segments: &[(f64, f64)], cfg: &CompassConfig) -> Option<(f64, f64)> {
     let mut hist = [0.0f64; 90];
     let mut total = 0.0;
-    let n = points.len();
-    for i in 0..n.saturating_sub(stride) {
-        let (Some(a), Some(b)) = (points[i], points[i + stride]) else {
-            continue;
-        };
-        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-        let len = dx.hypot(dy);
-        if len > cfg.max_gap_m || len < 1e-6 {
-            continue;
-        }
-        let deg = dy.atan2(dx).to_degrees().rem_euclid(90.0);
+    for &(len, deg) in segments {
+        let deg = deg.rem_euclid(90.0);
         let bin = (deg.floor() as usize).min(89);
         hist[bin] += len;
         total += len;
@@ -626,6 +616,9 @@ pub struct CompassTracker {
     dirs: Vec<(f64, f64, f64)>,
     /// The current scan's points in the robot frame.
     local: Vec<Option<(f64, f64)>>,
+    /// The current scan's wall segments (see [`segments`]): the line histogram's and the
+    /// orientation's votes.
+    segments: Vec<(f64, f64)>,
     /// Per ray, the `rank` nearest distances found so far (ascending; `∞` = none yet).
     nearest: Vec<f64>,
     /// The last step's percepts, in [`DIRECTIONS`] order (the first `directions` are used).
@@ -667,6 +660,7 @@ impl CompassTracker {
             rays: Rays::new(&cfg),
             dirs: Vec::new(),
             local: Vec::new(),
+            segments: Vec::new(),
             nearest: Vec::new(),
             out: [CompassRecord {
                 direction: "East",
@@ -735,12 +729,13 @@ impl CompassTracker {
     ) -> &[CompassRecord] {
         local_points(scan, &self.cfg, &mut self.dirs, &mut self.local);
         let stride = beams_apart(self.cfg.segment_deg, scan.bearing_step);
+        segments(&self.local, stride, self.cfg.max_gap_m, &mut self.segments);
         let keep = beams_apart(self.cfg.beam_deg, scan.bearing_step);
         let measured = self.scan_motion(increment, stride, keep);
         let predicted = self.predict(increment, measured, odom_heading);
         let first = self.pose.is_none();
         let mut pose = predicted;
-        pose.theta = predicted.theta + self.lock(predicted.theta, first, stride);
+        pose.theta = predicted.theta + self.lock(predicted.theta, first);
         pose.theta = wrap_pi(pose.theta);
         self.pose = Some(pose);
         self.remember(&pose, keep);
@@ -778,7 +773,7 @@ impl CompassTracker {
             return None;
         }
         let [prev, cur] = &mut *self.lines;
-        let has_lines = line_histogram(&self.local, stride, c.max_gap_m, c.smooth_deg, cur);
+        let has_lines = line_histogram_of(&self.segments, c.max_gap_m, c.smooth_deg, cur);
         let odometry = increment.filter(|d| d.x.is_finite() && d.y.is_finite());
         let odometry = odometry.filter(|d| d.theta.is_finite());
         let comparable = has_lines && self.lines_prev && self.pose.is_some();
@@ -899,10 +894,10 @@ impl CompassTracker {
         }
     }
 
-    /// The heading correction (radians) the current scan (`local`) makes to the prediction
+    /// The heading correction (radians) the current scan (its `segments`) makes to the prediction
     /// `theta`, 0 when its orientation is missing, weak or outside the gate. The gate widens
     /// with the distance travelled and the angle turned since the last accepted correction.
-    fn lock(&mut self, theta: f64, first: bool, stride: usize) -> f64 {
+    fn lock(&mut self, theta: f64, first: bool) -> f64 {
         let c = &self.cfg;
         let base = if c.scan_match {
             c.scan_match_max_correction_deg
@@ -916,7 +911,7 @@ impl CompassTracker {
                 .min(c.scan_match_max_gate_growth_deg))
         .min(40.0);
         self.correction = None;
-        let Some((alpha, share)) = orientation_of(&self.local, &self.cfg, stride) else {
+        let Some((alpha, share)) = orientation_of(&self.segments, &self.cfg) else {
             return 0.0;
         };
         let gate = if share >= self.cfg.min_peak_fraction {

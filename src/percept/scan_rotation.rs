@@ -28,20 +28,20 @@ pub const BINS: usize = 180;
 /// lowest correlation) makes the peak ambiguous.
 pub const SECOND_PEAK: f64 = 0.8;
 
-/// The length-weighted, smoothed histogram of the scan's segment directions modulo 180° into
-/// `out` (see the module docs); `false` (and `out` zero) when the scan has no segment.
+/// The scan's short wall segments into `out`: for every pair of valid points `stride` beams
+/// apart (at least one), its length and direction in degrees (`atan2`), unless it is longer
+/// than `max_gap_m` or shorter than 1e-6 m. Computed once per scan for [`line_histogram_of`]
+/// and the compass's wall orientation, which vote with the same segments.
 ///
 /// # Complexity
-/// `O(n)` in the number of points plus `O(BINS · smooth)`; no allocation.
-pub fn line_histogram(
+/// `O(n)` in the number of points; no allocation beyond `out`'s growth.
+pub fn segments(
     points: &[Option<(f64, f64)>],
     stride: usize,
     max_gap_m: f64,
-    smooth_deg: f64,
-    out: &mut [f64; BINS],
-) -> bool {
-    let mut raw = [0.0f64; BINS];
-    let mut total = 0.0;
+    out: &mut Vec<(f64, f64)>,
+) {
+    out.clear();
     let stride = stride.max(1);
     for (a, b) in points.iter().zip(points.iter().skip(stride)) {
         let (Some(a), Some(b)) = (a, b) else {
@@ -49,10 +49,49 @@ pub fn line_histogram(
         };
         let (dx, dy) = (b.0 - a.0, b.1 - a.1);
         let len = dx.hypot(dy);
+        // A NaN length is kept (the orientation counts it, the histogram does not).
+        if len > max_gap_m || len < 1e-6 {
+            continue;
+        }
+        out.push((len, dy.atan2(dx).to_degrees()));
+    }
+}
+
+/// The length-weighted, smoothed histogram of the scan's segment directions modulo 180° into
+/// `out` (see the module docs); `false` (and `out` zero) when the scan has no segment.
+///
+/// # Complexity
+/// `O(n)` in the number of points plus `O(BINS · smooth)`; allocates the segments (the
+/// tracker reuses them through [`line_histogram_of`]).
+pub fn line_histogram(
+    points: &[Option<(f64, f64)>],
+    stride: usize,
+    max_gap_m: f64,
+    smooth_deg: f64,
+    out: &mut [f64; BINS],
+) -> bool {
+    let mut found = Vec::new();
+    segments(points, stride, max_gap_m, &mut found);
+    line_histogram_of(&found, max_gap_m, smooth_deg, out)
+}
+
+/// [`line_histogram`] from the scan's [`segments`] (with the same `max_gap_m`).
+///
+/// # Complexity
+/// `O(n)` in the number of segments plus `O(BINS · smooth)`; no allocation.
+pub fn line_histogram_of(
+    segments: &[(f64, f64)],
+    max_gap_m: f64,
+    smooth_deg: f64,
+    out: &mut [f64; BINS],
+) -> bool {
+    let mut raw = [0.0f64; BINS];
+    let mut total = 0.0;
+    for &(len, deg) in segments {
         if !(1e-6..=max_gap_m).contains(&len) {
             continue;
         }
-        let deg = dy.atan2(dx).to_degrees().rem_euclid(180.0);
+        let deg = deg.rem_euclid(180.0);
         raw[(deg as usize).min(BINS - 1)] += len;
         total += len;
     }
