@@ -433,6 +433,20 @@ impl Grid {
         cy * self.dims.0 + cx
     }
 
+    /// Updates `best` with the points of cells `a..b` (one run of `order`). Inlined: as a
+    /// call it spills the query's registers, a third of the pairing's instructions.
+    #[inline(always)]
+    fn scan_run(&self, points: &[(f64, f64)], a: usize, b: usize, q: (f64, f64), best: &mut Best) {
+        let (a, b) = (self.start[a] as usize, self.start[b] as usize);
+        for (k, &i) in (a..b).zip(&self.order[a..b]) {
+            let (px, py) = points[i as usize];
+            let d2 = (px - q.0).powi(2) + (py - q.1).powi(2);
+            if d2 < best.d2 || (d2 == best.d2 && k >= best.k) {
+                *best = Best { d2, k, found: true };
+            }
+        }
+    }
+
     /// The index of the point of `points` nearest to `(x, y)` within `gate`, if any; of
     /// equally near points, the one latest in `order` (as a scan of the rows upwards would
     /// keep). The rows are searched outwards from the query's, each side only while the row's
@@ -465,14 +479,7 @@ impl Grid {
         let row = |gy: i64, best: &mut Best| {
             // The points of a row's cells x0..=x1 lie together in `order`, cell after cell.
             let (a, b) = ((gy * w + x0) as usize, (gy * w + x1) as usize + 1);
-            let (a, b) = (self.start[a] as usize, self.start[b] as usize);
-            for (k, &i) in (a..b).zip(&self.order[a..b]) {
-                let (px, py) = points[i as usize];
-                let d2 = (px - x).powi(2) + (py - y).powi(2);
-                if d2 < best.d2 || (d2 == best.d2 && k >= best.k) {
-                    *best = Best { d2, k, found: true };
-                }
-            }
+            self.scan_run(points, a, b, (x, y), best);
         };
         // A row's points are at least its edge's distance from the query, less a margin far
         // above the rounding of their cells (1e-6 cells); a row beyond the best is skipped.
