@@ -713,12 +713,8 @@ impl GridTracker {
                     .chunks_exact_mut(nx)
                     .zip(self.scratch.chunks_exact(nx));
                 for (m, src) in rows {
-                    for (mv, &s) in m[k..].iter_mut().zip(&src[..nx - k]) {
-                        *mv = mv.max(s);
-                    }
-                    for (mv, &s) in m[..nx - k].iter_mut().zip(&src[k..]) {
-                        *mv = mv.max(s);
-                    }
+                    max_into(&mut m[k..], &src[..nx - k]);
+                    max_into(&mut m[..nx - k], &src[k..]);
                 }
             } else {
                 let off = k * nx;
@@ -726,15 +722,12 @@ impl GridTracker {
                     break;
                 }
                 let (m, src) = (&mut self.running, &self.scratch);
-                for (mv, &s) in m[off..].iter_mut().zip(&src[..len - off]) {
-                    *mv = mv.max(s);
-                }
-                for (mv, &s) in m[..len - off].iter_mut().zip(&src[off..]) {
-                    *mv = mv.max(s);
-                }
+                max_into(&mut m[off..], &src[..len - off]);
+                max_into(&mut m[..len - off], &src[off..]);
             }
             for (o, &mv) in self.g.iter_mut().zip(&self.running) {
-                *o = o.max(mv.min(b));
+                let cut = if mv < b { mv } else { b };
+                *o = if cut > *o { cut } else { *o };
             }
         }
     }
@@ -873,5 +866,13 @@ impl GridTracker {
             let other = if k == best { second } else { first };
             *nk = 1.0 - other;
         }
+    }
+}
+
+/// `dst = max(dst, src)` element-wise, the maximum as a select: no cell is NaN (the plane is
+/// clamped before a dilation), and `f32::max`'s NaN rule keeps the loop from vectorising.
+fn max_into(dst: &mut [f32], src: &[f32]) {
+    for (d, &s) in dst.iter_mut().zip(src) {
+        *d = if s > *d { s } else { *d };
     }
 }
