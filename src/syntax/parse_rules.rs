@@ -47,12 +47,11 @@ pub fn parse_rules(text: &str) -> Result<RuleFile, Vec<Diagnostic>> {
 /// assert!(matches!(f.node, lplace::syntax::ast::Formula::And(_)));
 /// ```
 pub fn parse_query(text: &str) -> Result<Spanned<Formula>, Vec<Diagnostic>> {
-    use pest::Parser as _;
     if let Some(d) = super::recover::nesting_check(text) {
         return Err(vec![d]);
     }
     let mut diags = Vec::new();
-    let pairs = match RulesGrammar::parse(R::query, text) {
+    let pairs = match super::recover::parse_detailed::<RulesGrammar, R>(R::query, text) {
         Ok(p) => p,
         Err(e) => return Err(vec![super::recover::syntax_error(text, 0, &e, rules_label)]),
     };

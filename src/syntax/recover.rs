@@ -7,9 +7,11 @@
 
 use super::diagnostic::{Diagnostic, DiagnosticKind, Found, OneOf};
 use super::span::Span;
+use pest::error::Error as PestError;
 use pest::error::{ErrorVariant, InputLocation};
-use pest::iterators::Pair;
+use pest::iterators::{Pair, Pairs};
 use pest::{Parser, RuleType};
+use std::sync::Mutex;
 
 /// How deeply parentheses, braces, tuples, negations and nested `->` may nest. Real rule files
 /// stay below 10; the limit keeps the recursive parser and every later recursive pass (checker,
@@ -275,6 +277,34 @@ pub fn syntax_error<R: RuleType>(
     )
 }
 
+/// `P::parse(rule, text)`, and on failure the error with the literal tokens tried at the
+/// furthest position too (what [`syntax_error`] lists as expected).
+///
+/// pest records those tries only while its process-wide error-detail switch is on, and doing
+/// so halves the speed of every parse. So a text is parsed without them, and only a failed
+/// one again with them, under a lock: the switch is on only inside it, so a detailed parse
+/// never races another's switching off; a plain parse on another thread that meets the switch
+/// on is merely slower (its result is the same).
+pub(crate) fn parse_detailed<'i, P, R>(
+    rule: R,
+    text: &'i str,
+) -> Result<Pairs<'i, R>, Box<PestError<R>>>
+where
+    P: Parser<R>,
+    R: RuleType,
+{
+    static DETAIL: Mutex<()> = Mutex::new(());
+    if let Ok(pairs) = P::parse(rule, text) {
+        return Ok(pairs);
+    }
+    // A poisoned lock only means another detailed parse panicked; the switch is reset below.
+    let _held = DETAIL.lock().unwrap_or_else(|e| e.into_inner());
+    pest::set_error_detail(true);
+    let result = P::parse(rule, text);
+    pest::set_error_detail(false);
+    result.map_err(Box::new)
+}
+
 /// Parses `text` item by item with grammar `P`: `entry` must match one item at the start of its
 /// input (`SOI ~ item`); the file ends where only whitespace and comments are left. Each parsed
 /// item is handed to `build` with the byte offset of the slice it was parsed from. Returns the
@@ -295,8 +325,6 @@ where
     R: RuleType,
 {
     let mut diags = Vec::new();
-    // Record the literal tokens tried at the furthest position too (see `syntax_error`).
-    pest::set_error_detail(true);
     if let Some(d) = nesting_check(text) {
         diags.push(d);
         return diags;
@@ -316,7 +344,7 @@ where
             ));
             break;
         }
-        match P::parse(entry, rest) {
+        match parse_detailed::<P, R>(entry, rest) {
             Ok(mut pairs) => {
                 // `entry` is `SOI ~ item`: its only child is the item.
                 let Some(item) = pairs.next().and_then(|e| e.into_inner().next()) else {
