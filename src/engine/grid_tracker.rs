@@ -56,7 +56,7 @@
 //! the places. The plane is stored as runs of cells of one place (or none) along the rows, so
 //! the evidence and the places' maxima are plain loops over slices. The dilation is by levels
 //! for a flank of a few cells (`out = max_k min(M_k, B(k))` with `M_k` the running maximum over
-//! offsets `−k..=k`, whole rows at a time: a column neighbour is the next row), and by
+//! offsets `−k..=k`, a row at a time), and by
 //! [`crate::grid::dilate::dilate_line`]'s `O(n)` deques beyond. All buffers are sized at
 //! construction; [`GridTracker::step`] allocates nothing and cannot panic.
 //!
@@ -244,8 +244,6 @@ pub struct GridTracker {
     top: Vec<f32>,
     /// Per run, its largest cell after the evidence.
     run_top: Vec<f32>,
-    /// The running maximum of a dilation by levels.
-    running: Vec<f32>,
     /// The belief `g`, row-major.
     g: Vec<f32>,
     scratch: Vec<f32>,
@@ -444,7 +442,6 @@ impl GridTracker {
             start: map.start(),
             top: vec![1.0; n + 1],
             run_top: vec![0.0; n_runs],
-            running: vec![0.0; nx * ny],
             g: vec![1.0; nx * ny],
             scratch: vec![0.0; nx * ny],
             line: vec![0.0; longest],
@@ -694,40 +691,50 @@ impl GridTracker {
 
     /// One 1-D pass by levels along rows (`along_rows`) or columns, reaching `reach` cells:
     /// with `g₀` the input, `M_k = max(M_{k−1}, g₀(x − k), g₀(x + k))` and
-    /// `out = max_k min(M_k, B(k))`, each step element-wise over whole slices. Samples past the
-    /// grid's edge count as 0, so along rows a neighbour stays in its row.
+    /// `out = max_k min(M_k, B(k))`. Samples past the grid's edge count as 0, so along rows a
+    /// neighbour stays in its row.
     fn levels(&mut self, p: Profile, reach: usize, along_rows: bool) {
+        if along_rows {
+            self.levels_along_rows(p, reach);
+        } else {
+            self.levels_along_columns(p, reach);
+        }
+    }
+
+    /// [`GridTracker::levels`] along rows, a row at a time: `g₀` and `M_k` are row buffers
+    /// (in L1), the row itself is the output (it starts as `M₀ = g₀`, `B(0) = 1`).
+    fn levels_along_rows(&mut self, p: Profile, reach: usize) {
         let nx = self.nx;
-        let len = self.g.len();
-        // `scratch` = g₀, `running` = M_k, `g` = the output (M₀ = g₀, B(0) = 1).
-        self.scratch.copy_from_slice(&self.g);
-        self.running.copy_from_slice(&self.g);
-        for k in 1..=reach {
-            let b = p.at(k as f32);
-            if along_rows {
-                if k >= nx {
-                    break;
-                }
-                let rows = self
-                    .running
-                    .chunks_exact_mut(nx)
-                    .zip(self.scratch.chunks_exact(nx));
-                for (m, src) in rows {
-                    max_into(&mut m[k..], &src[..nx - k]);
-                    max_into(&mut m[..nx - k], &src[k..]);
-                }
-            } else {
-                let off = k * nx;
-                if off >= len {
-                    break;
-                }
-                let (m, src) = (&mut self.running, &self.scratch);
-                max_into(&mut m[off..], &src[..len - off]);
-                max_into(&mut m[..len - off], &src[off..]);
+        let reach = reach.min(nx.saturating_sub(1));
+        let (g0, m) = (&mut self.line[..nx], &mut self.line_out[..nx]);
+        for row in self.g.chunks_exact_mut(nx) {
+            g0.copy_from_slice(row);
+            m.copy_from_slice(row);
+            for k in 1..=reach {
+                max_into(&mut m[k..], &g0[..nx - k]);
+                max_into(&mut m[..nx - k], &g0[k..]);
+                max_min_into(row, m, p.at(k as f32));
             }
-            for (o, &mv) in self.g.iter_mut().zip(&self.running) {
-                let cut = if mv < b { mv } else { b };
-                *o = if cut > *o { cut } else { *o };
+        }
+    }
+
+    /// [`GridTracker::levels`] along columns, an output row at a time: `g₀` is a copy of the
+    /// plane, `M_k` for the row the maximum of its rows `r − k ..= r + k` (a row buffer).
+    fn levels_along_columns(&mut self, p: Profile, reach: usize) {
+        let (nx, ny) = (self.nx, self.ny);
+        let reach = reach.min(ny.saturating_sub(1));
+        self.scratch.copy_from_slice(&self.g);
+        let (g0, m) = (&self.scratch, &mut self.line_out[..nx]);
+        for (r, row) in self.g.chunks_exact_mut(nx).enumerate() {
+            m.copy_from_slice(row);
+            for k in 1..=reach {
+                if let Some(up) = r.checked_sub(k) {
+                    max_into(m, &g0[up * nx..(up + 1) * nx]);
+                }
+                if r + k < ny {
+                    max_into(m, &g0[(r + k) * nx..(r + k + 1) * nx]);
+                }
+                max_min_into(row, m, p.at(k as f32));
             }
         }
     }
@@ -874,5 +881,13 @@ impl GridTracker {
 fn max_into(dst: &mut [f32], src: &[f32]) {
     for (d, &s) in dst.iter_mut().zip(src) {
         *d = if s > *d { s } else { *d };
+    }
+}
+
+/// `out = max(out, min(m, b))` element-wise, as selects (see [`max_into`]).
+fn max_min_into(out: &mut [f32], m: &[f32], b: f32) {
+    for (o, &mv) in out.iter_mut().zip(m) {
+        let cut = if mv < b { mv } else { b };
+        *o = if cut > *o { cut } else { *o };
     }
 }
