@@ -91,7 +91,7 @@
 
 use super::tracker::{carry_heading, held, undecided, unless_unsupported, TrackerConfig};
 use crate::core::Odometry;
-use crate::grid::cells::raw_max;
+use crate::grid::cells::scale_max_by;
 use crate::grid::dilate::{dilate_line, Profile};
 use crate::logic::{
     clamp_degree, decide, Decision, DecisionParams, Disoriented, PlaceDistribution,
@@ -799,21 +799,17 @@ impl GridTracker {
         }
     }
 
-    /// Multiplies each run by its factor and keeps the run's largest value; returns the plane's
-    /// largest value. Normalising is monotone, so a run's largest value afterwards is the
-    /// normalised one of this, and the plane needs no third pass. Maxima as selects
-    /// (`raw_max`), not `f32::max`, whose NaN rule keeps the loops from vectorising (no cell is
-    /// NaN: every factor is finite).
+    /// Multiplies each run by its factor and keeps the run's largest value, in one sweep;
+    /// returns the plane's largest value. Normalising is monotone, so a run's largest value
+    /// afterwards is the normalised one of this, and the plane needs no third pass. Maxima as
+    /// selects (`scale_max_by`), not `f32::max`, whose NaN rule keeps the loops from
+    /// vectorising (no cell is NaN: every factor is finite).
     fn multiply_runs(&mut self) -> f32 {
         let b = self.bias as f32;
         let mut h = 0.0f32;
         for (top, &(start, end, l)) in self.run_top.iter_mut().zip(&self.runs) {
             let f = self.factor.get(l).copied().unwrap_or(b);
-            let run = &mut self.g[start..end];
-            for v in run.iter_mut() {
-                *v *= f;
-            }
-            *top = raw_max(run);
+            *top = scale_max_by(&mut self.g[start..end], f);
             h = if *top > h { *top } else { h };
         }
         h
