@@ -375,6 +375,8 @@ fn line_normal(a: (f64, f64), p: (f64, f64), b: (f64, f64)) -> (f64, f64) {
 struct Grid {
     origin: (f64, f64),
     cell: f64,
+    /// `1 / cell`.
+    per_cell: f64,
     dims: (usize, usize),
     /// Per cell, where its points start in `order` (one more entry than cells).
     start: Vec<u32>,
@@ -401,6 +403,7 @@ impl Grid {
         }
         let span = (hi.0 - lo.0).max(hi.1 - lo.1);
         self.cell = gate.max(span / (MAX_CELLS - 1) as f64);
+        self.per_cell = 1.0 / self.cell;
         self.origin = lo;
         let side = |d: f64| ((d / self.cell) as usize + 1).min(MAX_CELLS);
         self.dims = (side(hi.0 - lo.0), side(hi.1 - lo.1));
@@ -455,8 +458,10 @@ impl Grid {
         if self.dims.0 == 0 || !(x.is_finite() && y.is_finite()) {
             return None;
         }
-        let fx = (x - self.origin.0) / self.cell;
-        let fy = (y - self.origin.1) / self.cell;
+        // Times the reciprocal (a division is the query's slowest step): a coordinate a
+        // rounding off moves no point across the margins below, so the answer is the same.
+        let fx = (x - self.origin.0) * self.per_cell;
+        let fy = (y - self.origin.1) * self.per_cell;
         let reach = gate / self.cell + 1.0;
         let (w, h) = (self.dims.0 as f64, self.dims.1 as f64);
         if fx < -reach || fy < -reach || fx >= w + reach || fy >= h + reach {
