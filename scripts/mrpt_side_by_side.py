@@ -132,13 +132,15 @@ def data_dir():
 
 
 def cargo_targets():
-    """Builds lplace and examples/place_of_pose; returns the two executables."""
+    """Builds lplace, examples/place_of_pose and examples/time_per_scan; returns the three
+    executables."""
     run(["cargo", "build", "--release", "--quiet", "--bin", "lplace",
-         "--example", "place_of_pose"], cwd=REPO)
+         "--example", "place_of_pose", "--example", "time_per_scan"], cwd=REPO)
     meta = json.loads(run(["cargo", "metadata", "--format-version", "1", "--no-deps"],
                           cwd=REPO).stdout)
     release = Path(meta["target_directory"]) / "release"
-    return release / "lplace", release / "examples" / "place_of_pose"
+    examples = release / "examples"
+    return release / "lplace", examples / "place_of_pose", examples / "time_per_scan"
 
 
 # ---------------------------------------------------------------- the log, rewritten for MRPT
@@ -369,22 +371,26 @@ def score(truth, estimate, spread, args):
     return at, dec, right, cw
 
 
-def summary_row(p, elapsed):
-    """(at a place, decided, right, confidently wrong, ms per scan) from `eval`'s JSON summary."""
+def summary_row(p, elapsed, step_ms=None):
+    """(at a place, decided, right, confidently wrong, ms per scan of the whole commands, ms per
+    scan timed as the filter's step or None) from `eval`'s JSON summary."""
     s = json.loads(p.stdout)
     truth = s["truth"]
     dec = truth["correct"] + truth["wrong"]
     return (truth["at_place"], dec, truth["correct"], truth["confidently_wrong"],
-            1e3 * elapsed / s["frames"])
+            1e3 * elapsed / s["frames"], step_ms)
 
 
-def lplace_default_row(b, lplace, log, wdir, repeats):
+def lplace_default_row(b, tools, log, wdir, repeats):
     """lplace with the defaults, as the README's buildings table: the log extracted without a
     config, the floor-plan map surveyed on it with DEFAULT_RULES (`lplace survey`, a one-off
     like the filter's map building, so not timed), the log evaluated with the surveyed map.
     Extraction and evaluation are timed `repeats` times and the median kept: one pass over a
     log of a few hundred scans takes a tenth of a second, where one busy moment of the host
-    shows, while the filter's time is a mean over every step of every run."""
+    shows, while the filter's time is a mean over every step of every run. Timed too as the
+    filter's step is (`examples/time_per_scan`: the log parsed before the clock starts, no
+    JSON, no process start), the median of as many passes; its decisions must be eval's."""
+    lplace, _, per_scan = tools
     plan = REPO / b["plan"]
     stream = wdir / "lplace.jsonl"
     surveyed = wdir / "surveyed.map"
@@ -401,7 +407,15 @@ def lplace_default_row(b, lplace, log, wdir, repeats):
         p = run([lplace, "eval", stream, "--map", surveyed, "--rules", REPO / DEFAULT_RULES,
                  "--only-summary", "--summary", "json"], cwd=REPO)
         times.append(extract_s + time.perf_counter() - t0)
-    return summary_row(p, statistics.median(times))
+    step = run([per_scan, log, plan, surveyed, REPO / DEFAULT_RULES, str(max(1, repeats))],
+               cwd=REPO).stdout.split()
+    # `scans S decided D ms_per_scan M`
+    figures = dict(zip(step[0::2], step[1::2]))
+    decided = json.loads(p.stdout)["decided"]
+    if int(figures.get("decided", -1)) != decided:
+        raise ScriptError(f"{b['name']}: time_per_scan decided {figures.get('decided')} "
+                          f"frames, eval {decided}")
+    return summary_row(p, statistics.median(times), float(figures["ms_per_scan"]))
 
 
 def lplace_intel_row(b, lplace, log):
@@ -439,15 +453,18 @@ def row(name, method, protocol, runs):
     cw = [pct(r[3], r[0]) for r in runs]
     ms = [r[4] for r in runs]
     locked = sum(c > LOCKED_WRONG_PCT for c in cw)
+    # lplace's own rows: the time as the filter's step is timed, then the whole commands'.
+    step = [r[5] for r in runs if len(r) > 5 and r[5] is not None]
+    time_cell = (f"{fig(step, '{:.3f}')} ms (whole commands {fig(ms, '{:.2f}')} ms)" if step
+                 else f"{fig(ms, '{:.2f}')} ms")
     return (f"| {name} | {method} | {protocol} | {len(runs)} | {at} | {fig(decided, '{:.1f} %')}"
-            f" | {fig(right, '{:.1f} %')} | {fig(cw, '{:.1f} %')} | {locked} | "
-            f"{fig(ms, '{:.2f}')} ms |")
+            f" | {fig(right, '{:.1f} %')} | {fig(cw, '{:.1f} %')} | {locked} | {time_cell} |")
 
 
 # ---------------------------------------------------------------- main
 
 
-def building(key, args, lplace, lookup, work):
+def building(key, args, tools, work):
     b = BUILDINGS[key]
     log = data_dir() / b["log"]
     if not log.is_file():
@@ -457,11 +474,12 @@ def building(key, args, lplace, lookup, work):
     wdir.mkdir(parents=True, exist_ok=True)
     scans = read_log(log)
     simplemap, rawlog = write_logs(b, scans, wdir)
+    lookup = tools[1]
     truth = places_of(lookup, b["plan"], [(p[0], p[1]) for _, p, _, _ in scans])
     own = [(f"floor plan surveyed on the log, {DEFAULT_RULES}, the defaults",
-            lplace_default_row(b, lplace, log, wdir, args.lplace_repeats))]
+            lplace_default_row(b, tools, log, wdir, args.lplace_repeats))]
     if b["map"]:
-        own.append((f"surveyed map, {RULES}, grid tracker", lplace_intel_row(b, lplace, log)))
+        own.append((f"surveyed map, {RULES}, grid tracker", lplace_intel_row(b, tools[0], log)))
     # All scored on the same scans: the extents looked up here must hold what extract labelled.
     at_place = sum(t is not None for t in truth)
     for protocol, figures in own:
@@ -516,12 +534,12 @@ def main():
         if missing:
             raise ScriptError(f"{', '.join(missing)} not found: this script needs MRPT's "
                               "applications (Debian 12: apt-get install mrpt-apps, 2.5.8)")
-        lplace, lookup = cargo_targets()
+        tools = cargo_targets()
         work = Path(args.work) if args.work else Path(tempfile.mkdtemp(prefix="mrpt-sbs-"))
         rows = []
         try:
             for k in keys:
-                rows += building(k, args, lplace, lookup, work)
+                rows += building(k, args, tools, work)
         finally:
             if not args.work:
                 shutil.rmtree(work, ignore_errors=True)

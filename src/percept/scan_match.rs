@@ -355,7 +355,8 @@ fn with_normals(
 fn line_normal(a: (f64, f64), p: (f64, f64), b: (f64, f64)) -> (f64, f64) {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
     let len = dx.hypot(dy);
-    let near = |q: (f64, f64)| (q.0 - p.0).hypot(q.1 - p.1) <= 0.3;
+    // Squared, not `hypot` (a library call, the scan's costliest step here).
+    let near = |q: (f64, f64)| (q.0 - p.0).powi(2) + (q.1 - p.1).powi(2) <= 0.3 * 0.3;
     if !(len > 1e-6 && len.is_finite() && near(a) && near(b)) {
         return (0.0, 0.0);
     }
