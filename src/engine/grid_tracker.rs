@@ -649,9 +649,9 @@ impl GridTracker {
     /// Sup-min dilation by the square element with profile `p` along both axes: the element
     /// `min(B(u), B(v)) = B(max(|u|, |v|))` is the sup-min sum of a row and a column element.
     fn dilate(&mut self, p: Profile) {
-        for v in self.g.iter_mut() {
-            *v = v.clamp(0.0, 1.0);
-        }
+        // No clamping pass: every cell is in [0, 1] here (the start's 1 and floor, the
+        // normalisation's output, the 0 of a cell that entered).
+        debug_assert!(self.g.iter().all(|v| (0.0..=1.0).contains(v)));
         // Offsets k with B(k) > 0: k < flank (core 0).
         let reach = if p.flank > 0.0 {
             (p.flank.ceil() as usize).saturating_sub(1)
@@ -718,24 +718,34 @@ impl GridTracker {
         }
     }
 
-    /// [`GridTracker::levels`] along columns, an output row at a time: `g₀` is a copy of the
-    /// plane, `M_k` for the row the maximum of its rows `r − k ..= r + k` (a row buffer).
+    /// [`GridTracker::levels`] along columns, an output row at a time, top down: `M_k` for row
+    /// `r` is the maximum of its input rows `r − k ..= r + k`. The rows below are still input;
+    /// the `reach` rows above, already output, are kept as they were in a ring of rows
+    /// (`scratch`), so the plane is not copied.
     fn levels_along_columns(&mut self, p: Profile, reach: usize) {
         let (nx, ny) = (self.nx, self.ny);
         let reach = reach.min(ny.saturating_sub(1));
-        self.scratch.copy_from_slice(&self.g);
-        let (g0, m) = (&self.scratch, &mut self.line_out[..nx]);
-        for (r, row) in self.g.chunks_exact_mut(nx).enumerate() {
+        if reach == 0 {
+            return;
+        }
+        let ring = &mut self.scratch[..reach * nx];
+        let (g0, m) = (&mut self.line[..nx], &mut self.line_out[..nx]);
+        for r in 0..ny {
+            let (done, below) = self.g.split_at_mut((r + 1) * nx);
+            let row = &mut done[r * nx..];
+            g0.copy_from_slice(row);
             m.copy_from_slice(row);
             for k in 1..=reach {
-                if let Some(up) = r.checked_sub(k) {
-                    max_into(m, &g0[up * nx..(up + 1) * nx]);
+                if r >= k {
+                    let up = (r - k) % reach;
+                    max_into(m, &ring[up * nx..(up + 1) * nx]);
                 }
                 if r + k < ny {
-                    max_into(m, &g0[(r + k) * nx..(r + k + 1) * nx]);
+                    max_into(m, &below[(k - 1) * nx..k * nx]);
                 }
                 max_min_into(row, m, p.at(k as f32));
             }
+            ring[(r % reach) * nx..(r % reach + 1) * nx].copy_from_slice(g0);
         }
     }
 
@@ -872,8 +882,8 @@ impl GridTracker {
     }
 }
 
-/// `dst = max(dst, src)` element-wise, the maximum as a select: no cell is NaN (the plane is
-/// clamped before a dilation), and `f32::max`'s NaN rule keeps the loop from vectorising.
+/// `dst = max(dst, src)` element-wise, the maximum as a select: no cell is NaN (every cell is
+/// in [0, 1] at a dilation), and `f32::max`'s NaN rule keeps the loop from vectorising.
 fn max_into(dst: &mut [f32], src: &[f32]) {
     for (d, &s) in dst.iter_mut().zip(src) {
         *d = if s > *d { s } else { *d };
