@@ -100,7 +100,9 @@ fn read_log(path: &str) -> Result<Vec<(CarmenMessage, f64)>, Failure> {
         .and_then(|mut f| f.read_to_end(&mut bytes))
         .map_err(|e| format!("{path}: {e}"))?;
     let text: Box<dyn BufRead> = if bytes.starts_with(&[0x1f, 0x8b]) {
-        Box::new(std::io::BufReader::new(flate2::read::GzDecoder::new(&bytes[..])))
+        Box::new(std::io::BufReader::new(flate2::read::GzDecoder::new(
+            &bytes[..],
+        )))
     } else {
         Box::new(&bytes[..])
     };
@@ -121,9 +123,8 @@ fn source(path: &str) -> Result<SourceFile, Failure> {
 
 fn read_map(path: &str) -> Result<Map, Failure> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
-    let problems = |d: Vec<lplace::syntax::diagnostic::Diagnostic>| {
-        format!("{path}: {} problem(s)", d.len())
-    };
+    let problems =
+        |d: Vec<lplace::syntax::diagnostic::Diagnostic>| format!("{path}: {} problem(s)", d.len());
     let ast = parse_map(&text).map_err(problems)?;
     Ok(Map::from_ast(&ast).map_err(problems)?)
 }

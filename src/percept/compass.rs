@@ -621,6 +621,8 @@ pub struct CompassTracker {
     segments: Vec<(f64, f64)>,
     /// Per ray, the `rank` nearest distances found so far (ascending; `∞` = none yet).
     nearest: Vec<f64>,
+    /// Per kept point, its arc of rays (see [`arc_of`]): scratch of `free_ranges`.
+    arcs: Vec<(f32, f32)>,
     /// The last step's percepts, in [`DIRECTIONS`] order (the first `directions` are used).
     out: [CompassRecord; 8],
     /// Line-direction histograms of the previous and the current scan (`scan_rotation`), and
@@ -662,6 +664,7 @@ impl CompassTracker {
             local: Vec::new(),
             segments: Vec::new(),
             nearest: Vec::new(),
+            arcs: Vec::new(),
             out: [CompassRecord {
                 direction: "East",
                 value: None,
@@ -1003,8 +1006,6 @@ impl CompassTracker {
         let (band, cap) = (self.cfg.band_m, self.cfg.cap_m);
         self.nearest.clear();
         self.nearest.resize(self.rays.len() * k, f64::INFINITY);
-        // The window is worked out in f32 (it only prunes; the margin of 1e-3 rad covers the
-        // approximations, f32 rounding included), the test itself in f64 as written.
         let pi = std::f32::consts::PI;
         let (band32, band2) = (band as f32, (band * band) as f32);
         // A point farther than this cannot be within the band at less than the cap.
@@ -1013,22 +1014,21 @@ impl CompassTracker {
             history,
             rays,
             nearest,
+            arcs,
             ..
         } = self;
-        for p in history.iter().flat_map(|s| &s.points) {
-            let (vx, vy) = (p.0 - pose.x, p.1 - pose.y);
-            let r2 = vx * vx + vy * vy;
-            if r2.is_nan() || r2 <= 0.0 || r2 > far2 {
+        // Each point's arc first, in a loop of its own: without branches it runs on vectors,
+        // and the arcs' divisions overlap instead of each holding up its point's search.
+        arcs.clear();
+        for s in history.iter() {
+            let arc = |p: &(f64, f64)| arc_of((p.0 - pose.x, p.1 - pose.y), far2, band32, band2);
+            arcs.extend(s.points.iter().map(arc));
+        }
+        for (p, &(theta, w)) in history.iter().flat_map(|s| &s.points).zip(arcs.iter()) {
+            if theta.is_nan() {
                 continue;
             }
-            // tan(asin(x)) = x/√(1 − x²) ≥ asin(x): the window is never too narrow.
-            let theta = approx_atan2(vy as f32, vx as f32);
-            let r2f = r2 as f32;
-            let w = if r2f > band2 {
-                (band32 / (r2f - band2).sqrt()).min(0.5 * pi) + ATAN_MARGIN
-            } else {
-                0.5 * pi + ATAN_MARGIN
-            };
+            let (vx, vy) = (p.0 - pose.x, p.1 - pose.y);
             let mut visit = |lo: f32, hi: f32| {
                 for ray in rays.within(lo, hi) {
                     let (ux, uy) = rays.unit[ray];
@@ -1152,6 +1152,24 @@ impl Rays {
     }
 }
 
+/// The arc `(θ, w)` of rays a point at `v` from the robot may be within `band` of (`band32`,
+/// `band2 = band²` in f32): its direction `θ` and half-width `w`, or `θ` NaN for a point at
+/// the robot, farther than `far2` (squared) or not finite. Worked out in f32 (it only prunes;
+/// [`ATAN_MARGIN`] covers the approximations, rounding included; the ray test itself is in
+/// f64 as written), and without branches (see [`CompassTracker::free_ranges`]).
+#[inline(always)]
+fn arc_of(v: (f64, f64), far2: f64, band32: f32, band2: f32) -> (f32, f32) {
+    let pi = std::f32::consts::PI;
+    let r2 = v.0 * v.0 + v.1 * v.1;
+    let theta = approx_atan2(v.1 as f32, v.0 as f32);
+    let r2f = r2 as f32;
+    // tan(asin(x)) = x/√(1 − x²) ≥ asin(x): the window is never too narrow.
+    let narrow = (band32 / (r2f - band2).sqrt()).min(0.5 * pi);
+    let w = ATAN_MARGIN + if r2f > band2 { narrow } else { 0.5 * pi };
+    let kept = r2 > 0.0 && r2 <= far2;
+    (if kept { theta } else { f32::NAN }, w)
+}
+
 /// What [`approx_atan2`] may be off by, radians, rounding included, with room to spare: the
 /// formula is off by at most 1.51e-3 on [0, 1] (`the_fast_atan2_is_within_its_margin` checks
 /// it under 1.7e-3 in f32, over every direction).
@@ -1160,25 +1178,23 @@ const ATAN_MARGIN: f32 = 3e-3;
 /// `atan2(y, x)` to within [`ATAN_MARGIN`], from `atan(z) ≈ π/4·z − z(z − 1)(0.2447 + 0.0663 z)`
 /// on [0, 1] (Rajan et al., 2006: 1.5e-3 rad), a fraction of the library's cost; for pruning
 /// only (see [`CompassTracker::free_ranges`]: a window widened by the margin misses no ray).
+#[inline(always)]
 fn approx_atan2(y: f32, x: f32) -> f32 {
     let (ax, ay) = (x.abs(), y.abs());
-    let (num, den, swap) = if ay > ax {
-        (ax, ay, true)
-    } else {
-        (ay, ax, false)
-    };
-    if den.is_nan() || den <= 0.0 {
-        return 0.0;
-    }
-    let z = num / den;
+    let swap = ay > ax;
+    let (num, den) = if swap { (ax, ay) } else { (ay, ax) };
+    // Selects, not an early return, so that a loop of these runs on vectors: 0 at the origin.
+    let defined = den > 0.0;
+    let z = if defined { num / den } else { 0.0 };
     let pi = std::f32::consts::PI;
     let t = 0.25 * pi * z - z * (z - 1.0) * (0.2447 + 0.0663 * z);
     let t = if swap { 0.5 * pi - t } else { t };
     let t = if x < 0.0 { pi - t } else { t };
-    if y < 0.0 {
-        -t
-    } else {
+    let t = if y < 0.0 { -t } else { t };
+    if defined {
         t
+    } else {
+        0.0
     }
 }
 
