@@ -1,7 +1,8 @@
 //! `lplace compare` end to end: every method on a hand-made stream whose answer is known (a
 //! robot standing still among three landmarks), TUM files one per method that parse back, the
 //! three output formats, the sweeps and their plot, exit codes for bad specs and malformed
-//! lines, `--help`; then real MRCLAM robot 1 (skipped when the data set is absent).
+//! lines, `--help`; then real MRCLAM robot 1, and `scripts/mrclam_table.py` against compare's own
+//! figures (both skipped when the data set is absent).
 
 use crate::support::landmarks::{self, frame};
 use crate::support::{lplace, mrclam_dir};
@@ -482,4 +483,109 @@ fn start_at_truth_fixes_at_the_first_frame_and_refuses_rmcl() {
         .assert()
         .code(2)
         .stderr(predicates::str::contains("rmcl cannot start from a pose"));
+}
+
+/// Each method's common-window ATE from `lplace compare --format csv` (unperturbed runs).
+fn common_window_ates(dir: &std::path::Path, methods: &str, robot: u32, seed: u32) -> Vec<f64> {
+    let (robot, seed) = (robot.to_string(), seed.to_string());
+    let (code, out, err) = compare(&[
+        "--from-dir".as_ref(),
+        dir.as_os_str(),
+        "--robot".as_ref(),
+        robot.as_ref(),
+        "--methods".as_ref(),
+        methods.as_ref(),
+        "--seed".as_ref(),
+        seed.as_ref(),
+        "--format".as_ref(),
+        "csv".as_ref(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let mut lines = out.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = header
+        .iter()
+        .position(|h| *h == "ate_common_rmse_m")
+        .unwrap();
+    lines
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|f| f[1] == "main")
+        .map(|f| f[col].parse().unwrap())
+        .collect()
+}
+
+/// The numbers of the Markdown row whose first cell is `label`.
+fn table_row(text: &str, label: &str) -> Vec<f64> {
+    let line = text
+        .lines()
+        .find(|l| l.starts_with(&format!("| {label} |")))
+        .unwrap_or_else(|| panic!("no row {label}: {text}"));
+    line.split('|')
+        .skip(2)
+        .filter(|c| !c.trim().is_empty())
+        .map(|c| c.trim().trim_matches('*').parse().unwrap())
+        .collect()
+}
+
+/// `python3 scripts/mrclam_table.py ARGS` from the crate's root.
+fn mrclam_table<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> std::process::Output {
+    std::process::Command::new("python3")
+        .arg("scripts/mrclam_table.py")
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap()
+}
+
+/// `scripts/mrclam_table.py` (the README's MRCLAM table): its per-robot rows and its mean must
+/// be the means of what `lplace compare` itself prints for those robots and seeds, computed here
+/// from compare's CSV. Skipped without the data set or python3.
+#[test]
+fn the_mrclam_table_script_averages_what_compare_prints() {
+    let Some(dir) = mrclam_dir() else {
+        return;
+    };
+    if std::process::Command::new("python3")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        eprintln!("SKIPPED: no python3 for scripts/mrclam_table.py");
+        return;
+    }
+    let methods = "fpg,pf:500";
+    let runs: Vec<Vec<f64>> = [(1, 1), (1, 2), (2, 1), (2, 2)]
+        .iter()
+        .map(|&(r, s)| common_window_ates(&dir, methods, r, s))
+        .collect();
+    let mean = |xs: &[f64]| xs.iter().sum::<f64>() / xs.len() as f64;
+    let robot = |k: usize, m: usize| mean(&[runs[2 * k][m], runs[2 * k + 1][m]]);
+    let bin = assert_cmd::cargo::cargo_bin("lplace");
+    let out = mrclam_table(&[
+        "--data".as_ref(),
+        dir.as_os_str(),
+        "--robots".as_ref(),
+        "1-2".as_ref(),
+        "--seeds".as_ref(),
+        "1,2".as_ref(),
+        "--methods".as_ref(),
+        methods.as_ref(),
+        "--lplace".as_ref(),
+        bin.as_os_str(),
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{text}{err}");
+    // The script prints three decimals.
+    let near = |a: f64, b: f64| (a - b).abs() <= 0.0005 + 1e-9;
+    for m in 0..2 {
+        assert!(near(table_row(&text, "1")[m], robot(0, m)), "{text}");
+        assert!(near(table_row(&text, "2")[m], robot(1, m)), "{text}");
+        let both = mean(&[robot(0, m), robot(1, m)]);
+        assert!(near(table_row(&text, "**mean**")[m], both), "{text}");
+    }
+    // A folder without the survey is refused with exit 2, before any run.
+    let out = mrclam_table(&["--data".as_ref(), scratch("table_no_data").as_os_str()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("Landmark_Groundtruth.dat"));
 }
