@@ -485,10 +485,16 @@ fn start_at_truth_fixes_at_the_first_frame_and_refuses_rmcl() {
         .stderr(predicates::str::contains("rmcl cannot start from a pose"));
 }
 
-/// Each method's common-window ATE from `lplace compare --format csv` (unperturbed runs).
-fn common_window_ates(dir: &std::path::Path, methods: &str, robot: u32, seed: u32) -> Vec<f64> {
+/// Each method's common-window ATE from `lplace compare --format csv` (unperturbed runs), with
+/// `extra` arguments (configurations).
+fn common_window_ates(
+    dir: &std::path::Path,
+    methods: &str,
+    (robot, seed): (u32, u32),
+    extra: &[&std::ffi::OsStr],
+) -> Vec<f64> {
     let (robot, seed) = (robot.to_string(), seed.to_string());
-    let (code, out, err) = compare(&[
+    let mut args: Vec<&std::ffi::OsStr> = vec![
         "--from-dir".as_ref(),
         dir.as_os_str(),
         "--robot".as_ref(),
@@ -499,7 +505,9 @@ fn common_window_ates(dir: &std::path::Path, methods: &str, robot: u32, seed: u3
         seed.as_ref(),
         "--format".as_ref(),
         "csv".as_ref(),
-    ]);
+    ];
+    args.extend(extra);
+    let (code, out, err) = compare(&args);
     assert_eq!(code, 0, "{err}");
     let mut lines = out.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
@@ -529,8 +537,13 @@ fn table_row(text: &str, label: &str) -> Vec<f64> {
 
 /// `python3 scripts/mrclam_table.py ARGS` from the crate's root.
 fn mrclam_table<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> std::process::Output {
+    python_script("mrclam_table.py", args)
+}
+
+/// `python3 scripts/NAME ARGS` from the crate's root.
+fn python_script<S: AsRef<std::ffi::OsStr>>(name: &str, args: &[S]) -> std::process::Output {
     std::process::Command::new("python3")
-        .arg("scripts/mrclam_table.py")
+        .arg(format!("scripts/{name}"))
         .args(args)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
@@ -545,18 +558,13 @@ fn the_mrclam_table_script_averages_what_compare_prints() {
     let Some(dir) = mrclam_dir() else {
         return;
     };
-    if std::process::Command::new("python3")
-        .arg("--version")
-        .output()
-        .is_err()
-    {
-        eprintln!("SKIPPED: no python3 for scripts/mrclam_table.py");
+    if !has_python() {
         return;
     }
     let methods = "fpg,pf:500";
     let runs: Vec<Vec<f64>> = [(1, 1), (1, 2), (2, 1), (2, 2)]
         .iter()
-        .map(|&(r, s)| common_window_ates(&dir, methods, r, s))
+        .map(|&run| common_window_ates(&dir, methods, run, &[]))
         .collect();
     let mean = |xs: &[f64]| xs.iter().sum::<f64>() / xs.len() as f64;
     let robot = |k: usize, m: usize| mean(&[runs[2 * k][m], runs[2 * k + 1][m]]);
@@ -588,4 +596,76 @@ fn the_mrclam_table_script_averages_what_compare_prints() {
     let out = mrclam_table(&["--data".as_ref(), scratch("table_no_data").as_os_str()]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("Landmark_Groundtruth.dat"));
+}
+
+/// Whether `python3` runs (else says so, for a skip).
+fn has_python() -> bool {
+    let ok = std::process::Command::new("python3")
+        .arg("--version")
+        .output()
+        .is_ok();
+    if !ok {
+        eprintln!("SKIPPED: no python3 for the scripts");
+    }
+    ok
+}
+
+/// `scripts/mrclam_fit.py`, in a small run (20 candidates, 2 segments): the file it writes is a
+/// configuration `lplace compare` reads, and the whole-run figure in its header — computed by
+/// the script from the TUM file and the stream's truth — is the mean of `lplace compare`'s own
+/// common-window ATE for the grid beside the calibrated PF(2000), seeds 1–5.
+#[test]
+fn the_fit_script_scores_robot1_as_compare_does() {
+    let Some(dir) = mrclam_dir() else {
+        return;
+    };
+    if !has_python() {
+        return;
+    }
+    let out_file = scratch("fit").join("fitted.ron");
+    let bin = assert_cmd::cargo::cargo_bin("lplace");
+    let out = python_script(
+        "mrclam_fit.py",
+        &[
+            "--data".as_ref(),
+            dir.as_os_str(),
+            "--seeds".as_ref(),
+            "1".as_ref(),
+            "--draws".as_ref(),
+            "20".as_ref(),
+            "--top".as_ref(),
+            "2".as_ref(),
+            "--segments".as_ref(),
+            "2".as_ref(),
+            "--out".as_ref(),
+            out_file.as_os_str(),
+            "--lplace".as_ref(),
+            bin.as_os_str(),
+        ],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let text = std::fs::read_to_string(&out_file).unwrap();
+    let claimed: f64 = text
+        .split("whole run ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no whole-run figure in {text}"));
+    let pf = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("config/pf-calibrated.ron");
+    let extra = [
+        "--config".as_ref(),
+        out_file.as_os_str(),
+        "--pf-config".as_ref(),
+        pf.as_os_str(),
+    ];
+    let fpg: Vec<f64> = (1..=5)
+        .map(|seed| common_window_ates(&dir, "fpg,pf:2000", (1, seed), &extra)[0])
+        .collect();
+    let mean = fpg.iter().sum::<f64>() / 5.0;
+    // The header prints four decimals.
+    assert!(
+        (claimed - mean).abs() <= 0.00005 + 1e-9,
+        "{claimed} against {mean}: {text}"
+    );
 }
