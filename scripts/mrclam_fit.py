@@ -25,7 +25,8 @@ to --out. Nothing of robots 2-5 is read.
     scripts/mrclam_table.py --methods fpg,pf:2000 --config fitted.ron \\
         --pf-config config/pf-calibrated.ron           # then score it on robots 1-5
 
-With the defaults it writes config/grid-mrclam-segments.ron's values. Needs cargo (or
+With the defaults it writes config/grid-mrclam-segments.ron's values; with --dilation
+Lukasiewicz, config/grid-mrclam-lukasiewicz.ron's. Needs cargo (or
 --lplace) and python3 alone. Exit codes: 0 written; 1 a run failed or no candidate passed;
 2 bad arguments.
 """
@@ -69,6 +70,7 @@ TEMPLATE = """(
     combine: Product,
     normalize: true,
     element: Octagon,
+    dilation: {dilation},
     blur: Carry(level: {lvl}),
     core_per_metre: {cpm},
     flank_per_metre: {fpm},
@@ -87,6 +89,10 @@ TEMPLATE = """(
 """
 
 
+def config_text(p: dict, dilation: str) -> str:
+    return TEMPLATE.format(dilation=dilation, **p)
+
+
 def parse_args() -> argparse.Namespace:
     p = argparse.ArgumentParser(
         description=__doc__.split("\n\n")[0],
@@ -100,6 +106,8 @@ def parse_args() -> argparse.Namespace:
     p.add_argument("--segments", type=int, default=6, help="pieces of robot 1's run (default 6)")
     p.add_argument("--top", type=int, default=16, help="candidates whose neighbours are run")
     p.add_argument("--kidnap-max", type=float, help="also require this recovery [s]")
+    p.add_argument("--dilation", choices=["SupMin", "Lukasiewicz"], default="SupMin",
+                   help="the blur's dilation rule (default SupMin, the code's default)")
     p.add_argument("--jobs", type=int, default=2, help="runs at once (default 2)")
     p.add_argument("--lplace", type=Path, help="the lplace binary (default: cargo build)")
     a = p.parse_args()
@@ -129,8 +137,9 @@ def main_row(text: str) -> dict:
 class Robot1:
     """Robot 1's stream, its segments, its truth and PF(2000)'s first fixes."""
 
-    def __init__(self, exe: Path, data: Path, work: Path, segments: int):
+    def __init__(self, exe: Path, data: Path, work: Path, segments: int, dilation: str):
         self.exe = exe
+        self.dilation = dilation
         self.stream = work / "r1.jsonl"
         self.stream.write_text(lplace(exe, ["extract", "--from", "mrclam", str(data),
                                             "--robot", "1"]))
@@ -185,7 +194,7 @@ class Robot1:
         """Recovery after `--kidnap-at mid` on the whole run (inf: never)."""
         with tempfile.TemporaryDirectory() as d:
             cfg = Path(d) / "c.ron"
-            cfg.write_text(TEMPLATE.format(**p))
+            cfg.write_text(config_text(p, self.dilation))
             row = main_row(lplace(self.exe, ["compare", str(self.stream), "--methods", "fpg",
                                              "--config", str(cfg), "--kidnap-at", "mid",
                                              "--format", "csv"]))
@@ -194,7 +203,7 @@ class Robot1:
     def score(self, p: dict) -> dict:
         with tempfile.TemporaryDirectory() as d:
             cfg = Path(d) / "c.ron"
-            cfg.write_text(TEMPLATE.format(**p))
+            cfg.write_text(config_text(p, self.dilation))
             ate, fix, median, worst = self.whole(cfg, d)
             pieces = self.pieces(cfg)
         return dict(p=p, ate=ate, fix=fix, median=median, max=worst, pieces=pieces,
@@ -264,7 +273,7 @@ def main() -> int:
     try:
         exe = lplace_binary(args.lplace)
         with tempfile.TemporaryDirectory() as work, ThreadPoolExecutor(args.jobs) as pool:
-            r1 = Robot1(exe, args.data, Path(work), args.segments)
+            r1 = Robot1(exe, args.data, Path(work), args.segments, args.dilation)
             best = choose(args, r1, pool)
     except (OSError, RuntimeError, subprocess.CalledProcessError) as e:
         print(f"mrclam_fit: {e}", file=sys.stderr)
@@ -273,7 +282,7 @@ def main() -> int:
               f"{best['ate']:.4f} m (common window, PF seeds 1-5), segments "
               + " / ".join(f"{v:.3f}" for v in best["pieces"])
               + f" m, first fix {best['fix']:.1f} s.\n")
-    args.out.write_text(header + TEMPLATE.format(**best["p"]))
+    args.out.write_text(header + config_text(best["p"], args.dilation))
     print(f"mrclam_fit: wrote {args.out}", file=sys.stderr)
     return 0
 

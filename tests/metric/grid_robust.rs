@@ -128,3 +128,16 @@ fn mrclam_robot1_ate_with_the_segments_fit_is_no_more_fragile_than_measured() {
     assert!(landmarks <= 0.03, "{landmarks}");
     assert!(config <= 0.039, "{config} ({worst})");
 }
+
+/// config/grid-mrclam-lukasiewicz.ron (the same fit with the Łukasiewicz dilation): measured
+/// 4.0 % (landmarks) and 4.4 % (configuration, `flank_per_second` ×0.99) on robot 1; locked with
+/// half a point of margin.
+#[test]
+fn mrclam_robot1_ate_with_the_lukasiewicz_fit_is_no_more_fragile_than_measured() {
+    let file = include_str!("../../config/grid-mrclam-lukasiewicz.ron");
+    let Some((landmarks, config, worst)) = robot1_spreads(file, 1) else {
+        return;
+    };
+    assert!(landmarks <= 0.045, "{landmarks}");
+    assert!(config <= 0.049, "{config} ({worst})");
+}
