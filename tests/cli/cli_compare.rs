@@ -555,12 +555,9 @@ fn python_script<S: AsRef<std::ffi::OsStr>>(name: &str, args: &[S]) -> std::proc
 /// from compare's CSV. Skipped without the data set or python3.
 #[test]
 fn the_mrclam_table_script_averages_what_compare_prints() {
-    let Some(dir) = mrclam_dir() else {
+    let Some(dir) = mrclam_with_python() else {
         return;
     };
-    if !has_python() {
-        return;
-    }
     let methods = "fpg,pf:500";
     let runs: Vec<Vec<f64>> = [(1, 1), (1, 2), (2, 1), (2, 2)]
         .iter()
@@ -598,16 +595,19 @@ fn the_mrclam_table_script_averages_what_compare_prints() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("Landmark_Groundtruth.dat"));
 }
 
-/// Whether `python3` runs (else says so, for a skip).
-fn has_python() -> bool {
-    let ok = std::process::Command::new("python3")
+/// MRCLAM dataset 7's folder when both it and `python3` are here (else says which is not,
+/// for a skip).
+fn mrclam_with_python() -> Option<std::path::PathBuf> {
+    let dir = mrclam_dir()?;
+    if std::process::Command::new("python3")
         .arg("--version")
         .output()
-        .is_ok();
-    if !ok {
+        .is_err()
+    {
         eprintln!("SKIPPED: no python3 for the scripts");
+        return None;
     }
-    ok
+    Some(dir)
 }
 
 /// `scripts/mrclam_fit.py`, in a small run (20 candidates, 2 segments): the file it writes is a
@@ -616,12 +616,9 @@ fn has_python() -> bool {
 /// common-window ATE for the grid beside the calibrated PF(2000), seeds 1–5.
 #[test]
 fn the_fit_script_scores_robot1_as_compare_does() {
-    let Some(dir) = mrclam_dir() else {
+    let Some(dir) = mrclam_with_python() else {
         return;
     };
-    if !has_python() {
-        return;
-    }
     let out_file = scratch("fit").join("fitted.ron");
     let bin = assert_cmd::cargo::cargo_bin("lplace");
     let out = python_script(

@@ -18,6 +18,16 @@ fn ate(table: &LandmarkTable, cfg: &GridConfig, frames: &[MetricFrame]) -> f64 {
     rep.ate.expect("a fix and truth").rmse
 }
 
+/// Asserts robot 1's spreads under the configuration `ron` on `lattices` lattices: at most
+/// `landmarks` for the landmark draws and `config` for the ±1 % changes (skipped without data).
+fn assert_spreads_at_most(ron: &str, lattices: u32, landmarks: f64, config: f64) {
+    let Some((l, c, worst)) = robot1_spreads(ron, lattices) else {
+        return;
+    };
+    assert!(l <= landmarks, "landmarks: {l}");
+    assert!(c <= config, "configuration: {c} ({worst})");
+}
+
 /// Robot 1's largest relative ATE change over the ten landmark draws and over the ±1 %
 /// configuration changes (with the value that caused it), the configuration `ron` on `lattices`
 /// lattices, or `None` without the data.
@@ -69,11 +79,7 @@ fn robot1_spreads(ron: &str, lattices: u32) -> Option<(f64, f64, String)> {
 /// towards that fragility.
 #[test]
 fn mrclam_robot1_ate_is_no_more_fragile_than_measured() {
-    let Some((landmarks, config, worst)) = robot1_spreads(FILE, 1) else {
-        return;
-    };
-    assert!(landmarks <= 0.025, "{landmarks}");
-    assert!(config <= 0.065, "{config} ({worst})");
+    assert_spreads_at_most(FILE, 1, 0.025, 0.065);
 }
 
 /// Issue 20's robustness goal for the configuration: ≤ 3 % (the landmark half is met and
@@ -82,11 +88,7 @@ fn mrclam_robot1_ate_is_no_more_fragile_than_measured() {
 #[test]
 #[ignore = "issue 20's 3 % goal for the configuration is not met yet (robot 1: 6.0 %)"]
 fn mrclam_robot1_ate_moves_at_most_3_percent() {
-    let Some((landmarks, config, worst)) = robot1_spreads(FILE, 1) else {
-        return;
-    };
-    assert!(landmarks <= 0.03, "{landmarks}");
-    assert!(config <= 0.03, "{config} ({worst})");
+    assert_spreads_at_most(FILE, 1, 0.03, 0.03);
 }
 
 /// Issue 20's 3 % goal, both halves, with eight shifted lattices averaged (`lattices: 8`;
@@ -94,11 +96,7 @@ fn mrclam_robot1_ate_moves_at_most_3_percent() {
 /// eight times one (docs/compare.md, "Averaged shifted lattices").
 #[test]
 fn mrclam_robot1_ate_on_eight_lattices_moves_at_most_3_percent() {
-    let Some((landmarks, config, worst)) = robot1_spreads(FILE, 8) else {
-        return;
-    };
-    assert!(landmarks <= 0.03, "{landmarks}");
-    assert!(config <= 0.03, "{config} ({worst})");
+    assert_spreads_at_most(FILE, 8, 0.03, 0.03);
 }
 
 /// config/grid-mrclam-shared.ron (`heading_sets: Shared`): measured 2.6 % (landmarks) and 4.5 %
@@ -107,12 +105,12 @@ fn mrclam_robot1_ate_on_eight_lattices_moves_at_most_3_percent() {
 /// issue 20's 3 % for the landmarks and half a point of margin, 5 %, for the configuration.
 #[test]
 fn mrclam_robot1_ate_with_shared_heading_sets_is_no_more_fragile_than_measured() {
-    let shared = include_str!("../../config/grid-mrclam-shared.ron");
-    let Some((landmarks, config, worst)) = robot1_spreads(shared, 1) else {
-        return;
-    };
-    assert!(landmarks <= 0.03, "{landmarks}");
-    assert!(config <= 0.05, "{config} ({worst})");
+    assert_spreads_at_most(
+        include_str!("../../config/grid-mrclam-shared.ron"),
+        1,
+        0.03,
+        0.05,
+    );
 }
 
 /// config/grid-mrclam-segments.ron (refitted on robot 1's whole run and six segments of it by
@@ -121,12 +119,12 @@ fn mrclam_robot1_ate_with_shared_heading_sets_is_no_more_fragile_than_measured()
 /// 3 % for the landmarks and half a point of margin, 3.9 %, for the configuration.
 #[test]
 fn mrclam_robot1_ate_with_the_segments_fit_is_no_more_fragile_than_measured() {
-    let segments = include_str!("../../config/grid-mrclam-segments.ron");
-    let Some((landmarks, config, worst)) = robot1_spreads(segments, 1) else {
-        return;
-    };
-    assert!(landmarks <= 0.03, "{landmarks}");
-    assert!(config <= 0.039, "{config} ({worst})");
+    assert_spreads_at_most(
+        include_str!("../../config/grid-mrclam-segments.ron"),
+        1,
+        0.03,
+        0.039,
+    );
 }
 
 /// config/grid-mrclam-lukasiewicz.ron (the same fit with the Łukasiewicz dilation): measured
@@ -134,10 +132,10 @@ fn mrclam_robot1_ate_with_the_segments_fit_is_no_more_fragile_than_measured() {
 /// half a point of margin.
 #[test]
 fn mrclam_robot1_ate_with_the_lukasiewicz_fit_is_no_more_fragile_than_measured() {
-    let file = include_str!("../../config/grid-mrclam-lukasiewicz.ron");
-    let Some((landmarks, config, worst)) = robot1_spreads(file, 1) else {
-        return;
-    };
-    assert!(landmarks <= 0.045, "{landmarks}");
-    assert!(config <= 0.049, "{config} ({worst})");
+    assert_spreads_at_most(
+        include_str!("../../config/grid-mrclam-lukasiewicz.ron"),
+        1,
+        0.045,
+        0.049,
+    );
 }
