@@ -32,8 +32,6 @@ Lukasiewicz, config/grid-mrclam-lukasiewicz.ron's. Needs cargo (or
 """
 
 import argparse
-import csv
-import io
 import json
 import math
 import os
@@ -47,7 +45,8 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO / "scripts"))
-from mrclam_table import default_data, int_list, lplace_binary  # noqa: E402
+from mrclam_table import (int_list, lplace_binary, main_rows, parse_checked,  # noqa: E402
+                          script_parser)
 
 # Log-uniform ranges of the fitted values (names as in TEMPLATE), and the thinning's choices.
 RANGES = dict(rc=(0.1, 0.6), rs=(0.03, 0.3), rsr=(0.05, 0.4), rb=(0.01, 0.2),
@@ -94,12 +93,7 @@ def config_text(p: dict, dilation: str) -> str:
 
 
 def parse_args() -> argparse.Namespace:
-    p = argparse.ArgumentParser(
-        description=__doc__.split("\n\n")[0],
-        epilog="\n\n".join(__doc__.split("\n\n")[1:]),
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
-    p.add_argument("--data", type=Path, default=default_data(), help="MRCLAM data set folder")
+    p = script_parser(__doc__)
     p.add_argument("--out", type=Path, required=True, help="where to write the chosen RON")
     p.add_argument("--seeds", type=int_list, default=[1, 2], help="draw seeds (default 1,2)")
     p.add_argument("--draws", type=int_list, default=[400, 2000],
@@ -109,15 +103,11 @@ def parse_args() -> argparse.Namespace:
     p.add_argument("--kidnap-max", type=float, help="also require this recovery [s]")
     p.add_argument("--dilation", choices=["SupMin", "Lukasiewicz"], default="SupMin",
                    help="the blur's dilation rule (default SupMin, the code's default)")
-    p.add_argument("--jobs", type=int, default=2, help="runs at once (default 2)")
-    p.add_argument("--lplace", type=Path, help="the lplace binary (default: cargo build)")
-    a = p.parse_args()
-    if not (a.data / "Landmark_Groundtruth.dat").is_file():
-        p.error(f"{a.data} holds no Landmark_Groundtruth.dat (set --data or LPLACE_DATA)")
+    a = parse_checked(p)
     if len(a.draws) != len(a.seeds):
         p.error("--draws needs one count per --seeds entry")
-    if a.segments < 1 or a.top < 1 or a.jobs < 1:
-        p.error("--segments, --top and --jobs must be at least 1")
+    if a.segments < 1 or a.top < 1:
+        p.error("--segments and --top must be at least 1")
     return a
 
 
@@ -129,7 +119,7 @@ def lplace(exe: Path, args: list) -> str:
 
 
 def main_row(text: str) -> dict:
-    rows = [r for r in csv.DictReader(io.StringIO(text)) if r["run"] == "main"]
+    rows = main_rows(text)
     if not rows:
         raise RuntimeError(f"no unperturbed row in:\n{text}")
     return rows[0]

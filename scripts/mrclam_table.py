@@ -57,13 +57,31 @@ def int_list(text: str) -> list:
     return out
 
 
-def parse_args() -> argparse.Namespace:
+def script_parser(doc: str) -> argparse.ArgumentParser:
+    """The MRCLAM scripts' parser: help from the module text, `--data`, `--jobs`, `--lplace`."""
     p = argparse.ArgumentParser(
-        description=__doc__.split("\n\n")[0],
-        epilog="\n\n".join(__doc__.split("\n\n")[1:]),
+        description=doc.split("\n\n")[0],
+        epilog="\n\n".join(doc.split("\n\n")[1:]),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--data", type=Path, default=default_data(), help="MRCLAM data set folder")
+    p.add_argument("--jobs", type=int, default=2, help="runs at once (default 2)")
+    p.add_argument("--lplace", type=Path, help="the lplace binary (default: cargo build)")
+    return p
+
+
+def parse_checked(p: argparse.ArgumentParser) -> argparse.Namespace:
+    """Parses, refusing (exit 2) a folder without the survey and fewer than one job."""
+    a = p.parse_args()
+    if not (a.data / "Landmark_Groundtruth.dat").is_file():
+        p.error(f"{a.data} holds no Landmark_Groundtruth.dat (set --data or LPLACE_DATA)")
+    if a.jobs < 1:
+        p.error("--jobs must be at least 1")
+    return a
+
+
+def parse_args() -> argparse.Namespace:
+    p = script_parser(__doc__)
     p.add_argument("--robots", type=int_list, default=[1, 2, 3, 4, 5], help="e.g. 1-5 or 2,4")
     p.add_argument("--seeds", type=int_list, default=[1, 2, 3, 4, 5], help="e.g. 1-5")
     p.add_argument("--methods", default="fpg,pf:500,pf:2000,rmcl", help="as lplace compare")
@@ -71,14 +89,12 @@ def parse_args() -> argparse.Namespace:
     p.add_argument("--pf-config", help="particle filter configuration")
     p.add_argument("--rmcl-config", help="Fuzzy R-MCL configuration")
     p.add_argument("--start-at-truth", action="store_true", help="tracking (fpg and pf only)")
-    p.add_argument("--jobs", type=int, default=2, help="runs at once (default 2)")
-    p.add_argument("--lplace", type=Path, help="the lplace binary (default: cargo build)")
-    a = p.parse_args()
-    if not (a.data / "Landmark_Groundtruth.dat").is_file():
-        p.error(f"{a.data} holds no Landmark_Groundtruth.dat (set --data or LPLACE_DATA)")
-    if a.jobs < 1:
-        p.error("--jobs must be at least 1")
-    return a
+    return parse_checked(p)
+
+
+def main_rows(text: str) -> list:
+    """The unperturbed rows (`run == main`) of `lplace compare --format csv`."""
+    return [r for r in csv.DictReader(io.StringIO(text)) if r["run"] == "main"]
 
 
 def lplace_binary(given) -> Path:
@@ -104,8 +120,7 @@ def run_one(args, exe: Path, robot: int, seed: int) -> dict:
     done = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True)
     if done.returncode != 0:
         raise RuntimeError(f"robot {robot} seed {seed}: exit {done.returncode}\n{done.stderr}")
-    rows = [r for r in csv.DictReader(io.StringIO(done.stdout)) if r["run"] == "main"]
-    return {r["method"]: r for r in rows}
+    return {r["method"]: r for r in main_rows(done.stdout)}
 
 
 def fmt(v: float) -> str:
